@@ -1,0 +1,40 @@
+// A lens model: the map between directions in the camera frame and pixels, both ways.
+// Camera frame: x = image right (columns), y = image down (rows), z = optical axis (out of the
+// lens, into the scene). Pixel (u, v)'s centre is at continuous coordinate (u, v) (OpenCV).
+// Every model in camera/ has this shape (COLMAP's habit): the parameter order is written once
+// beside the model, with the paper or library it matches.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+namespace skypol::camera {
+
+// Pinhole-style intrinsics in pixels, shared by the radial models.
+struct Intrinsics {
+  double fx = 1, fy = 1;  // focal length in pixels (f_mm / pitch_mm)
+  double cx = 0, cy = 0;  // principal point, pixel-centre convention of OpenCV
+  int width = 0, height = 0;
+};
+
+class Lens {
+ public:
+  virtual ~Lens() = default;
+  virtual std::string name() const = 0;
+  virtual const Intrinsics& intrinsics() const = 0;
+
+  // Pixel of a camera-frame direction (any length > 0), or nullopt beyond the usable field of
+  // view. The pixel may fall outside the sensor; callers check bounds.
+  virtual std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& dir_cam) const = 0;
+
+  // Unit camera-frame direction of a pixel, or nullopt outside the image circle or where the
+  // inverse does not converge. Never NaN.
+  virtual std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const = 0;
+
+  // The largest angle off the optical axis the lens images (radians; > π/2 for a 185° fisheye).
+  virtual double max_field_angle() const = 0;
+};
+
+}  // namespace skypol::camera

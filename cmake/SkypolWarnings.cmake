@@ -1,0 +1,21 @@
+# Warnings on for the project's own targets; third-party headers come in as SYSTEM includes.
+add_library(skypol_warnings INTERFACE)
+target_compile_options(skypol_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
+  -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Woverloaded-virtual
+  -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+option(SKYPOL_WERROR "Treat warnings as errors" ON)
+if(SKYPOL_WERROR)
+  target_compile_options(skypol_warnings INTERFACE -Werror)
+endif()
+
+# skypol_add_test(NAME module/foo_test SOURCES ... LIBS ...): one Catch2 executable per module test.
+function(skypol_add_test)
+  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
+  string(REPLACE "/" "_" _target "${T_NAME}")
+  add_executable(${_target} ${T_SOURCES})
+  target_link_libraries(${_target} PRIVATE skypol_catch_main ${T_LIBS} skypol_warnings)
+  target_compile_definitions(${_target} PRIVATE SKYPOL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_test(NAME ${T_NAME} COMMAND ${_target})
+  set_tests_properties(${T_NAME} PROPERTIES ENVIRONMENT "SKYPOL_BIN=$<TARGET_FILE:skypol>")
+endfunction()
