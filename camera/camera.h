@@ -44,7 +44,9 @@ class Camera {
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& dir_world) const;
 
   // The polarization angle (radians, from sensor +x towards +y) that light polarized at `angle`
-  // in the ray's basis (e0, d × e0) shows on the sensor. Identity for meridional transport.
+  // in the ray's basis (e0, d × e0) shows on the sensor. Identity for meridional transport;
+  // projected: wrapped to (−π/2, π/2]; where that E-vector lies along the optical axis (only at
+  // θ = 90°) it has no sensor-plane angle and `angle` is returned unchanged.
   double sensor_angle(const CameraRay& ray, double angle) const;
 
  private:
