@@ -1,0 +1,195 @@
+// The paper's SkyPole algorithm (steps in classic.h).
+#include "skypole/classic.h"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace skypol::skypole {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// 8-connected blobs of `on` pixels; returns the label image (0 = off) and the blob count.
+int label_blobs(const std::vector<std::uint8_t>& on, int w, int h, std::vector<int>& label) {
+  label.assign(on.size(), 0);
+  int n = 0;
+  std::vector<std::size_t> stack;
+  const std::size_t W = static_cast<std::size_t>(w);
+  for (std::size_t start = 0; start < on.size(); ++start) {
+    if (!on[start] || label[start]) continue;
+    ++n;
+    label[start] = n;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      const int x = static_cast<int>(i % W), y = static_cast<int>(i / W);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+          const std::size_t j = static_cast<std::size_t>(yy) * W + static_cast<std::size_t>(xx);
+          if (on[j] && !label[j]) {
+            label[j] = n;
+            stack.push_back(j);
+          }
+        }
+    }
+  }
+  return n;
+}
+
+// A valid pixel next to an invalid one or the image border.
+bool on_edge(const SkyImages& sky, std::size_t i) {
+  const std::size_t W = static_cast<std::size_t>(sky.width);
+  const int x = static_cast<int>(i % W), y = static_cast<int>(i / W);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int xx = x + dx, yy = y + dy;
+      if (xx < 0 || yy < 0 || xx >= sky.width || yy >= sky.height) return true;
+      if (!sky.valid[static_cast<std::size_t>(yy) * W + static_cast<std::size_t>(xx)]) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+ThresholdMode parse_threshold_mode(std::string_view name) {
+  if (name == "absolute") return ThresholdMode::absolute;
+  if (name == "relative") return ThresholdMode::relative;
+  throw std::invalid_argument("unknown threshold mode \"" + std::string(name) +
+                              "\" (expected one of absolute, relative)");
+}
+
+std::string_view threshold_mode_name(ThresholdMode m) {
+  return m == ThresholdMode::absolute ? "absolute" : "relative";
+}
+
+ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& params) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const char* method = "classic";
+  if (params.pairs == PairMode::interval && params.interval < 1)
+    throw std::invalid_argument("classic: pair interval must be ≥ 1 frame, got " +
+                                std::to_string(params.interval));
+  if (!(params.threshold > 0) || !std::isfinite(params.threshold))
+    throw std::invalid_argument("classic: threshold must be > 0, got " +
+                                std::to_string(params.threshold));
+  const std::size_t min_frames =
+      params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
+  const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
+  const double radius =
+      params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
+
+  ClassicResult result;
+  ClassicImages& im = result.images;
+  im.width = sky.width;
+  im.height = sky.height;
+  im.pairs = make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval);
+
+  std::vector<std::vector<float>> filtered;
+  for (const auto& d : sky.dolp) filtered.push_back(disk_filter(d, sky, radius));
+
+  const std::size_t n = sky.pixels();
+  std::vector<float> sum(n, 0.0f);
+  for (const auto& [a, b] : im.pairs) {
+    const auto& fa = filtered[static_cast<std::size_t>(a)];
+    const auto& fb = filtered[static_cast<std::size_t>(b)];
+    std::vector<float> diff(n, 0.0f);
+    for (std::size_t i = 0; i < n; ++i)
+      if (sky.valid[i]) diff[i] = std::abs(fa[i] - fb[i]);
+    const float thr = params.threshold_mode == ThresholdMode::absolute
+                          ? static_cast<float>(params.threshold)
+                          : static_cast<float>(params.threshold) * valid_quantile(diff, sky, 0.99);
+    std::vector<std::uint8_t> bin(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (sky.valid[i] && diff[i] <= thr) {
+        bin[i] = 1;
+        sum[i] += 1.0f;
+      }
+    im.thresholds.push_back(thr);
+    if (params.keep_intermediates) {
+      im.differences.push_back(std::move(diff));
+      im.binaries.push_back(std::move(bin));
+    }
+  }
+
+  float best = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (sky.valid[i]) best = std::max(best, sum[i]);
+  std::vector<std::uint8_t> maxset(n, 0);
+  for (std::size_t i = 0; i < n; ++i) maxset[i] = sky.valid[i] && sum[i] == best && best > 0;
+  std::vector<int> label;
+  const int blobs = label_blobs(maxset, sky.width, sky.height, label);
+  std::vector<std::size_t> size(static_cast<std::size_t>(blobs) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) size[static_cast<std::size_t>(label[i])] += label[i] ? 1 : 0;
+  int chosen = 0;
+  for (int b = 1; b <= blobs; ++b)
+    if (chosen == 0 || size[static_cast<std::size_t>(b)] > size[static_cast<std::size_t>(chosen)])
+      chosen = b;  // labels are assigned in first-pixel order, so ties keep the earliest blob
+
+  const auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  };
+  const auto keep_images = [&] {
+    if (!params.keep_intermediates) return;
+    im.filtered = filtered;
+    im.sum = sum;
+    im.maximum.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) im.maximum[i] = chosen != 0 && label[i] == chosen;
+  };
+  keep_images();
+
+  if (chosen == 0 || best == 0) {
+    result.estimate = invalid_estimate(method, "no pixel has a difference below the threshold in "
+                                               "any pair (threshold too low?)");
+    result.estimate.seconds = seconds();
+    return result;
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  bool touches_edge = false;
+  for (std::size_t i = 0; i < n; ++i)
+    if (label[i] == chosen) {
+      centroid += to_double(sky.ray_camera[i]);
+      touches_edge = touches_edge || on_edge(sky, i);
+    }
+  centroid.normalize();
+  double sq = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (label[i] == chosen) {
+      const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
+      const double a = std::atan2(d.cross(centroid).norm(), d.dot(centroid));
+      sq += a * a;
+    }
+  const double residual = std::sqrt(sq / static_cast<double>(size[static_cast<std::size_t>(chosen)])) / kDeg;
+
+  if (touches_edge) {
+    result.estimate = invalid_estimate(
+        method, "the maximum of the summed binary images touches the edge of the usable image "
+                "(image circle, mask or horizon): the pole is probably outside the field of view");
+    result.estimate.seconds = seconds();
+    return result;
+  }
+
+  // North or south: the sun's sense of rotation about the axis found (the pole above horizon).
+  const HemisphereDecision hemi =
+      decide_hemisphere(find_suns(sky, filtered), centroid, params.input.hemisphere);
+  if (!hemi.ok) {
+    result.estimate = invalid_estimate(method, hemi.why);
+    result.estimate.seconds = seconds();
+    return result;
+  }
+  result.estimate = make_estimate(method, sky, hemi.is_north ? centroid : Eigen::Vector3d(-centroid),
+                                  params.input);
+  result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
+                          std::string("hemisphere from ") + hemi.source;
+  result.estimate.residual_deg = residual;
+  result.estimate.confidence = static_cast<double>(best) / static_cast<double>(im.pairs.size());
+  result.estimate.seconds = seconds();
+  return result;
+}
+
+}  // namespace skypol::skypole

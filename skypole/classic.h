@@ -1,0 +1,71 @@
+// The SkyPole algorithm as the paper runs it (Kronland-Martinet et al., PNAS 2023, Fig. 1D and
+// Materials and Methods), every step a parameter with the paper's choice as its default:
+//   1. circular averaging filter on each DoLP image (masked pixels excluded from the average);
+//   2. absolute DoLP differences between pairs of frames (consecutive by default, as Fig. 1D);
+//   3. threshold, binarize: low difference (≤ threshold) = 1;
+//   4. sum of the binary images;
+//   5. maximum of the sum: the pole, where every difference is low (the radial invariance circles
+//      of all pairs meet only there, SI "The NCP is the only point ...");
+//   6. pixel → direction through the lens → level frame → α_rel, altitude → heading, latitude
+//      (conventions in skypole/estimate.h); north/south from the sun's rotation.
+// Ties (step 5): the pixels that reach the maximum form one or more 8-connected blobs; the pole is
+// the largest blob (most pixels; on equal size the one with the smallest first pixel index), at the
+// normalised mean of its pixels' unit directions (its centroid on the sphere).
+// The paper gives no threshold; the default is relative: 5 % of each difference image's 99th
+// percentile, so it behaves the same for Pmax = 1 or 0.7 and for any frame interval (an absolute
+// threshold of 0.01 DoLP is ThresholdMode::absolute, 0.01).
+// Validity: the maximal blob must not touch the edge of the usable image (image circle, mask,
+// horizon); if it does, the pole is probably outside the field of view and the estimate is
+// invalid. residual_deg = RMS angular radius of the blob; confidence = maximum / number of pairs.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "render/frame.h"
+#include "skypole/estimate.h"
+#include "skypole/sky_images.h"
+
+namespace skypol::skypole {
+
+enum class ThresholdMode { absolute, relative };
+ThresholdMode parse_threshold_mode(std::string_view name);  // "absolute" | "relative"
+std::string_view threshold_mode_name(ThresholdMode m);
+
+struct ClassicParams {
+  InputOptions input;
+  // Disk radius of the averaging filter in pixels; nullopt → default_filter_radius_px (0.5 % of the
+  // shorter image side, ≥ 1). 0 disables the filter.
+  std::optional<double> filter_radius_px;
+  PairMode pairs = PairMode::consecutive;
+  int interval = 1;  // frames between the two of a pair, for PairMode::interval
+  ThresholdMode threshold_mode = ThresholdMode::relative;
+  double threshold = 0.05;  // absolute: DoLP units; relative: fraction of each |ΔDoLP|'s p99
+  bool keep_intermediates = false;
+};
+
+// The images of each step, for inspection (all width×height, row-major; invalid pixels 0).
+struct ClassicImages {
+  int width = 0;
+  int height = 0;
+  std::vector<std::pair<int, int>> pairs;         // frame indices of each difference
+  std::vector<std::vector<float>> filtered;       // per frame
+  std::vector<std::vector<float>> differences;    // |filtered_i − filtered_j| per pair
+  std::vector<float> thresholds;                  // the threshold applied to each difference
+  std::vector<std::vector<std::uint8_t>> binaries;  // 1 = difference ≤ threshold
+  std::vector<float> sum;                         // sum of the binaries
+  std::vector<std::uint8_t> maximum;              // 1 = pixel of the chosen maximal blob
+};
+
+struct ClassicResult {
+  PoleEstimate estimate;
+  ClassicImages images;  // empty unless keep_intermediates
+};
+
+// Needs at least 3 frames (2 differences; PairMode::interval: interval + 2 frames).
+// Throws std::invalid_argument for unusable input (estimate.h, "Failures").
+ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& params = {});
+
+}  // namespace skypol::skypole

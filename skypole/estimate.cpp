@@ -1,0 +1,66 @@
+// Scoring and the small conversions of estimate.h.
+#include "skypole/estimate.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace skypol::skypole {
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+}
+
+Hemisphere parse_hemisphere(std::string_view name) {
+  if (name == "automatic" || name == "auto") return Hemisphere::automatic;
+  if (name == "north") return Hemisphere::north;
+  if (name == "south") return Hemisphere::south;
+  throw std::invalid_argument("unknown hemisphere \"" + std::string(name) +
+                              "\" (expected one of automatic, north, south)");
+}
+
+std::string_view hemisphere_name(Hemisphere h) {
+  switch (h) {
+    case Hemisphere::automatic: return "automatic";
+    case Hemisphere::north: return "north";
+    case Hemisphere::south: return "south";
+  }
+  return "?";
+}
+
+double wrap180(double deg) {
+  double a = std::fmod(deg, 360.0);
+  if (a > 180.0) a -= 360.0;
+  if (a <= -180.0) a += 360.0;
+  return a;
+}
+
+double wrap360(double deg) {
+  double a = std::fmod(deg, 360.0);
+  if (a < 0) a += 360.0;
+  if (a >= 360.0) a -= 360.0;
+  return a;
+}
+
+Score score(const PoleEstimate& estimate, const render::Truth& truth) {
+  if (!estimate.valid)
+    throw std::invalid_argument("cannot score an invalid " + estimate.method +
+                                " estimate: " + estimate.why_invalid);
+  Score s;
+  const Eigen::Vector3d true_ncp =
+      (truth.pole_is_north ? truth.pole_enu : Eigen::Vector3d(-truth.pole_enu)).normalized();
+  const Eigen::Vector3d est_ncp =
+      (truth.world_from_camera *
+       (estimate.is_north ? estimate.pole_camera : Eigen::Vector3d(-estimate.pole_camera)))
+          .normalized();
+  s.angular_error_deg = std::atan2(true_ncp.cross(est_ncp).norm(), true_ncp.dot(est_ncp)) / kDeg;
+  s.latitude_error_deg = estimate.latitude_deg - truth.site.latitude_deg;
+  // The true bearing exists unless the NCP is at the zenith or nadir (a geographic pole).
+  const bool truth_defined = std::hypot(true_ncp.x(), true_ncp.y()) > 1e-9;
+  if (truth_defined && estimate.heading_deg)
+    s.bearing_error_deg = wrap180(*estimate.heading_deg - truth.heading_deg);
+  return s;
+}
+
+}  // namespace skypol::skypole

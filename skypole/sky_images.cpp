@@ -1,0 +1,368 @@
+// Stack checking and the shared image helpers of the estimators (interfaces in sky_images.h).
+#include "skypole/sky_images.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "camera/orientation.h"
+#include "sky/time.h"
+
+namespace skypol::skypole {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::string channel_list(const render::Frame& f) {
+  std::string s;
+  for (const auto& [name, data] : f.channels) s += (s.empty() ? "" : ", ") + name;
+  return s.empty() ? std::string("none") : s;
+}
+
+std::string frame_label(const render::Frame& f, std::size_t index) {
+  std::ostringstream os;
+  os << "frame " << index;
+  if (f.truth.time.unix_seconds != 0) os << " (" << sky::format_iso8601(f.truth.time) << ")";
+  return os.str();
+}
+
+std::string pick_band(const render::Stack& stack, const InputOptions& options) {
+  if (!options.band.empty()) return options.band;
+  for (const auto& b : stack.bands)
+    if (b == "B") return b;
+  if (!stack.bands.empty()) return stack.bands.front();
+  for (const auto& [name, data] : stack.frames.front().channels)
+    if (name.rfind("DoLP.", 0) == 0) return name.substr(5);
+  return "Y";
+}
+
+const std::vector<float>* find_channel(const render::Frame& f, const std::string& name) {
+  const auto it = f.channels.find(name);
+  return it == f.channels.end() ? nullptr : &it->second;
+}
+
+}  // namespace
+
+SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& options,
+                             std::size_t min_frames, std::string_view method) {
+  const std::string m(method);
+  if (!stack.camera)
+    throw std::invalid_argument(m + ": the stack has no camera (the lens model is needed to turn "
+                                    "pixels into directions)");
+  if (stack.frames.size() < min_frames)
+    throw std::invalid_argument(m + ": needs at least " + std::to_string(min_frames) +
+                                " frames, the stack has " + std::to_string(stack.frames.size()));
+  if (!(options.min_elevation_deg > -90 && options.min_elevation_deg < 90))
+    throw std::invalid_argument(m + ": min_elevation_deg must be in (−90, 90), got " +
+                                std::to_string(options.min_elevation_deg));
+
+  SkyImages sky;
+  sky.lens = &stack.camera->lens();
+  sky.width = stack.camera->width();
+  sky.height = stack.camera->height();
+  if (sky.width <= 0 || sky.height <= 0)
+    throw std::invalid_argument(m + ": the camera has an empty image (" + std::to_string(sky.width) +
+                                "×" + std::to_string(sky.height) + ")");
+  sky.band = pick_band(stack, options);
+  const std::string dolp_name = "DoLP." + sky.band;
+  const std::size_t n = sky.pixels();
+
+  const Attitude att = options.attitude.value_or(
+      Attitude{stack.frames.front().truth.tilt_deg, stack.frames.front().truth.roll_deg});
+  sky.level_from_camera = camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
+
+  sky.valid.assign(n, 1);
+  for (std::size_t k = 0; k < stack.frames.size(); ++k) {
+    const render::Frame& f = stack.frames[k];
+    if (f.width != sky.width || f.height != sky.height)
+      throw std::invalid_argument(m + ": " + frame_label(f, k) + " is " + std::to_string(f.width) +
+                                  "×" + std::to_string(f.height) + ", the camera is " +
+                                  std::to_string(sky.width) + "×" + std::to_string(sky.height));
+    const std::vector<float>* d = find_channel(f, dolp_name);
+    if (!d)
+      throw std::invalid_argument(m + ": " + frame_label(f, k) + " has no \"" + dolp_name +
+                                  "\" channel (channels: " + channel_list(f) + ")");
+    if (d->size() != n)
+      throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"" + dolp_name +
+                                  "\" has " + std::to_string(d->size()) + " values, expected " +
+                                  std::to_string(n));
+    const std::vector<float>* mask = find_channel(f, "mask");
+    if (mask && mask->size() != n)
+      throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"mask\" has " +
+                                  std::to_string(mask->size()) + " values, expected " +
+                                  std::to_string(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite((*d)[i])) sky.valid[i] = 0;
+      if (mask && !((*mask)[i] > 0.5f)) sky.valid[i] = 0;
+    }
+    sky.dolp.push_back(*d);
+    if (k > 0 && f.truth.time < stack.frames[k - 1].truth.time)
+      throw std::invalid_argument(m + ": frames must be in time order; " + frame_label(f, k) +
+                                  " is earlier than frame " + std::to_string(k - 1));
+  }
+
+  const double t0 = stack.frames.front().truth.time.unix_seconds;
+  sky.times_known = stack.frames.back().truth.time.unix_seconds != t0;
+  for (std::size_t k = 0; k < stack.frames.size(); ++k)
+    sky.times_s.push_back(stack.frames[k].truth.time.unix_seconds - t0);
+
+  const double min_z = std::sin(options.min_elevation_deg * kDeg);
+  sky.ray_camera.assign(n, Eigen::Vector3f::Zero());
+  for (int y = 0; y < sky.height; ++y)
+    for (int x = 0; x < sky.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
+                            static_cast<std::size_t>(x);
+      if (!sky.valid[i]) continue;
+      const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
+      if (!r || (sky.level_from_camera * *r).z() < min_z) {
+        sky.valid[i] = 0;
+        continue;
+      }
+      sky.ray_camera[i] = r->normalized().cast<float>();
+      ++sky.valid_count;
+    }
+  if (sky.valid_count == 0)
+    throw std::invalid_argument(m + ": no pixel sees sky above " +
+                                std::to_string(options.min_elevation_deg) +
+                                "° elevation (check the mask channel, the lens and the tilt)");
+  return sky;
+}
+
+std::vector<std::vector<float>> aolp_channels(const render::Stack& stack, const SkyImages& sky,
+                                              std::string_view method) {
+  const std::string name = "AoLP." + sky.band;
+  std::vector<std::vector<float>> out;
+  for (std::size_t k = 0; k < stack.frames.size(); ++k) {
+    const render::Frame& f = stack.frames[k];
+    const std::vector<float>* a = find_channel(f, name);
+    if (!a)
+      throw std::invalid_argument(std::string(method) + ": " + frame_label(f, k) + " has no \"" +
+                                  name + "\" channel (channels: " + channel_list(f) + ")");
+    if (a->size() != sky.pixels())
+      throw std::invalid_argument(std::string(method) + ": " + frame_label(f, k) + " channel \"" +
+                                  name + "\" has the wrong size");
+    out.push_back(*a);
+  }
+  return out;
+}
+
+double default_filter_radius_px(int width, int height) {
+  return std::max(1.0, std::round(0.005 * std::min(width, height)));
+}
+
+std::vector<float> disk_filter(const std::vector<float>& image, const SkyImages& sky,
+                               double radius_px) {
+  const int w = sky.width, h = sky.height;
+  const std::size_t W = static_cast<std::size_t>(w);
+  std::vector<float> out(image.size(), 0.0f);
+  if (!(radius_px >= 0) || !std::isfinite(radius_px))
+    throw std::invalid_argument("disk filter radius must be ≥ 0, got " + std::to_string(radius_px));
+  const int r = static_cast<int>(std::floor(radius_px));
+  if (r < 1) {
+    for (std::size_t i = 0; i < image.size(); ++i) out[i] = sky.valid[i] ? image[i] : 0.0f;
+    return out;
+  }
+  // Row prefix sums of value·valid and valid; row y occupies (W + 1) entries.
+  std::vector<double> pv((W + 1) * static_cast<std::size_t>(h), 0.0);
+  std::vector<double> pm(pv.size(), 0.0);
+  for (int y = 0; y < h; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * (W + 1);
+    const std::size_t src = static_cast<std::size_t>(y) * W;
+    for (std::size_t x = 0; x < W; ++x) {
+      const bool v = sky.valid[src + x] != 0;
+      pv[row + x + 1] = pv[row + x] + (v ? static_cast<double>(image[src + x]) : 0.0);
+      pm[row + x + 1] = pm[row + x] + (v ? 1.0 : 0.0);
+    }
+  }
+  std::vector<int> half(static_cast<std::size_t>(2 * r + 1));
+  for (int dy = -r; dy <= r; ++dy)
+    half[static_cast<std::size_t>(dy + r)] =
+        static_cast<int>(std::floor(std::sqrt(radius_px * radius_px - dy * dy) + 1e-9));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * W + static_cast<std::size_t>(x);
+      if (!sky.valid[i]) continue;
+      double s = 0, c = 0;
+      for (int dy = -r; dy <= r; ++dy) {
+        const int yy = y + dy;
+        if (yy < 0 || yy >= h) continue;
+        const int hw = half[static_cast<std::size_t>(dy + r)];
+        const std::size_t row = static_cast<std::size_t>(yy) * (W + 1);
+        const std::size_t x0 = static_cast<std::size_t>(std::max(0, x - hw));
+        const std::size_t x1 = static_cast<std::size_t>(std::min(w - 1, x + hw)) + 1;
+        s += pv[row + x1] - pv[row + x0];
+        c += pm[row + x1] - pm[row + x0];
+      }
+      out[i] = c > 0 ? static_cast<float>(s / c) : 0.0f;
+    }
+  return out;
+}
+
+float valid_quantile(const std::vector<float>& image, const SkyImages& sky, double fraction) {
+  std::vector<float> v;
+  v.reserve(static_cast<std::size_t>(sky.valid_count));
+  for (std::size_t i = 0; i < image.size(); ++i)
+    if (sky.valid[i]) v.push_back(image[i]);
+  if (v.empty()) return 0.0f;
+  const double f = std::clamp(fraction, 0.0, 1.0);
+  const auto k = static_cast<std::size_t>(std::floor(f * static_cast<double>(v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,
+                                      const Eigen::Vector2d& pixel) {
+  const double fx = std::floor(pixel.x()), fy = std::floor(pixel.y());
+  if (!(fx >= 0 && fy >= 0 && fx + 1 < sky.width && fy + 1 < sky.height)) {
+    // Exactly on the last row/column: allow it when the point is a pixel centre.
+    return std::nullopt;
+  }
+  const std::size_t x = static_cast<std::size_t>(fx), y = static_cast<std::size_t>(fy);
+  const std::size_t W = static_cast<std::size_t>(sky.width);
+  const std::size_t i00 = y * W + x, i10 = i00 + 1, i01 = i00 + W, i11 = i01 + 1;
+  if (!sky.valid[i00] || !sky.valid[i10] || !sky.valid[i01] || !sky.valid[i11]) return std::nullopt;
+  const double ax = pixel.x() - fx, ay = pixel.y() - fy;
+  const auto at = [&](std::size_t i) { return static_cast<double>(image[i]); };
+  return (1 - ay) * ((1 - ax) * at(i00) + ax * at(i10)) + ay * ((1 - ax) * at(i01) + ax * at(i11));
+}
+
+std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
+                                                      const std::vector<std::vector<float>>& dolp) {
+  std::vector<std::optional<Eigen::Vector3d>> suns;
+  for (const auto& img : dolp) {
+    std::size_t best = 0;
+    float best_v = std::numeric_limits<float>::infinity();
+    for (std::size_t i = 0; i < img.size(); ++i)
+      if (sky.valid[i] && img[i] < best_v) {
+        best_v = img[i];
+        best = i;
+      }
+    const float p99 = valid_quantile(img, sky, 0.99);
+    if (!(best_v < 0.25f * p99)) {
+      suns.emplace_back(std::nullopt);
+      continue;
+    }
+    suns.emplace_back(to_double(sky.ray_camera[best]));
+  }
+  return suns;
+}
+
+HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
+                                     const Eigen::Vector3d& axis_camera, Hemisphere hint) {
+  HemisphereDecision d;
+  if (hint != Hemisphere::automatic) {
+    // The axis is the end above the horizon (see the header): the NCP for a northern observer.
+    d.ok = true;
+    d.is_north = hint == Hemisphere::north;
+    d.source = "hint";
+    return d;
+  }
+  double vote = 0, total = 0;
+  int used = 0;
+  const std::optional<Eigen::Vector3d>* prev = nullptr;
+  for (const auto& s : suns) {
+    if (!s) continue;
+    if (prev) {
+      const Eigen::Vector3d c = (**prev).cross(*s);
+      vote += c.dot(axis_camera);
+      total += c.norm();
+      ++used;
+    }
+    prev = &s;
+  }
+  d.source = "sun rotation";
+  if (used == 0) {
+    d.why = "cannot tell north from south: the sun (lowest DoLP above the horizon) is in view in "
+            "fewer than two frames; pass hemisphere = north or south";
+    return d;
+  }
+  if (total < std::sin(0.5 * kDeg) || std::abs(vote) < 0.3 * total) {
+    d.why = "cannot tell north from south: the sun's motion between the frames is too small or "
+            "inconsistent to give the sense of rotation; pass hemisphere = north or south";
+    return d;
+  }
+  d.ok = true;
+  d.is_north = vote < 0;
+  return d;
+}
+
+PoleEstimate make_estimate(std::string method, const SkyImages& sky,
+                           const Eigen::Vector3d& ncp_camera, const InputOptions& options) {
+  PoleEstimate e;
+  e.method = std::move(method);
+  e.valid = true;
+  const Eigen::Vector3d ncp = ncp_camera.normalized();
+  const Eigen::Vector3d ncp_level = sky.level_from_camera * ncp;
+  e.is_north = ncp_level.z() >= 0;  // at the equator exactly, north (as render::Truth does)
+  e.pole_camera = e.is_north ? ncp : Eigen::Vector3d(-ncp);
+  e.pole_level = sky.level_from_camera * e.pole_camera;
+  const Eigen::Vector3d& p = e.pole_level;
+  const double horiz = std::hypot(p.x(), p.y());
+  e.altitude_deg = std::atan2(p.z(), horiz) / kDeg;
+  e.azimuth_rel_deg = horiz > 0 ? wrap360(std::atan2(p.x(), p.y()) / kDeg) : 0.0;
+  e.latitude_deg = e.is_north ? e.altitude_deg : -e.altitude_deg;
+  if (90.0 - e.altitude_deg < options.heading_undefined_within_deg) {
+    e.heading_deg = std::nullopt;
+    e.note = "bearing undefined: the celestial pole is within " +
+             std::to_string(options.heading_undefined_within_deg) +
+             "° of the zenith (observer at a geographic pole)";
+  } else {
+    e.heading_deg = wrap360((e.is_north ? 0.0 : 180.0) - e.azimuth_rel_deg);
+  }
+  const auto px = sky.lens->project(e.pole_camera);
+  if (px && px->x() >= -0.5 && px->y() >= -0.5 && px->x() <= sky.width - 0.5 &&
+      px->y() <= sky.height - 0.5)
+    e.pixel = *px;
+  return e;
+}
+
+PoleEstimate invalid_estimate(std::string method, std::string why) {
+  PoleEstimate e;
+  e.method = std::move(method);
+  e.valid = false;
+  e.why_invalid = std::move(why);
+  return e;
+}
+
+PairMode parse_pair_mode(std::string_view name) {
+  if (name == "consecutive") return PairMode::consecutive;
+  if (name == "all") return PairMode::all;
+  if (name == "interval") return PairMode::interval;
+  throw std::invalid_argument("unknown pair mode \"" + std::string(name) +
+                              "\" (expected one of consecutive, all, interval)");
+}
+
+std::string_view pair_mode_name(PairMode m) {
+  switch (m) {
+    case PairMode::consecutive: return "consecutive";
+    case PairMode::all: return "all";
+    case PairMode::interval: return "interval";
+  }
+  return "?";
+}
+
+std::vector<std::pair<int, int>> make_pairs(int frames, PairMode mode, int interval) {
+  std::vector<std::pair<int, int>> pairs;
+  switch (mode) {
+    case PairMode::consecutive:
+      for (int i = 0; i + 1 < frames; ++i) pairs.emplace_back(i, i + 1);
+      break;
+    case PairMode::all:
+      for (int i = 0; i < frames; ++i)
+        for (int j = i + 1; j < frames; ++j) pairs.emplace_back(i, j);
+      break;
+    case PairMode::interval:
+      if (interval < 1)
+        throw std::invalid_argument("pair interval must be ≥ 1 frame, got " + std::to_string(interval));
+      for (int i = 0; i + interval < frames; ++i) pairs.emplace_back(i, i + interval);
+      break;
+  }
+  return pairs;
+}
+
+}  // namespace skypol::skypole

@@ -1,0 +1,100 @@
+// The first step every estimator shares: check a stack, pick its DoLP channel, work out which
+// pixels see sky and in which direction (camera and level frame), and the helpers built on that
+// (masked disk filter, sun finding, the north/south decision, turning a pole direction into a
+// PoleEstimate). Conventions are in skypole/estimate.h.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "camera/lens.h"
+#include "render/frame.h"
+#include "skypole/estimate.h"
+
+namespace skypol::skypole {
+
+// A stack reduced to what the estimators use. Images are row-major, index = y·width + x.
+struct SkyImages {
+  int width = 0;
+  int height = 0;
+  std::string band;
+  const camera::Lens* lens = nullptr;          // owned by the stack's camera
+  Eigen::Matrix3d level_from_camera = Eigen::Matrix3d::Identity();
+  std::vector<std::uint8_t> valid;             // 1 = sky pixel usable in every frame
+  std::vector<Eigen::Vector3f> ray_camera;     // unit direction per pixel (zero where !valid)
+  std::vector<std::vector<float>> dolp;        // per frame, as in the stack
+  std::vector<double> times_s;                 // seconds since frame 0
+  bool times_known = false;                    // false: all frames carry the same time
+  int valid_count = 0;
+
+  std::size_t pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  std::size_t frames() const { return dolp.size(); }
+};
+
+// Checks `stack` for `method` (which needs at least `min_frames` frames) and prepares it.
+// With `need_aolp`, the "AoLP.<band>" channel is required and returned in `aolp` (per frame).
+// Throws std::invalid_argument with a message naming the method, frame and channel.
+SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& options,
+                             std::size_t min_frames, std::string_view method);
+std::vector<std::vector<float>> aolp_channels(const render::Stack& stack, const SkyImages& sky,
+                                              std::string_view method);
+
+// The default disk-filter radius for an image: 0.5 % of the shorter side, at least 1 px
+// (≈ 5 px on the paper's 1224×1024 DoLP images, MATLAB's fspecial('disk') default radius).
+double default_filter_radius_px(int width, int height);
+
+// Circular averaging filter (a disk of `radius_px` around each pixel) that averages only valid
+// pixels; invalid pixels come out 0. radius 0 copies the image. O(radius) per pixel.
+std::vector<float> disk_filter(const std::vector<float>& image, const SkyImages& sky,
+                               double radius_px);
+
+// Value below which `fraction` of the valid pixels of `image` lie (nth_element; 0 if none).
+float valid_quantile(const std::vector<float>& image, const SkyImages& sky, double fraction);
+
+// Bilinear sample of `image` at continuous pixel (u, v) (pixel centres at integers); nullopt if
+// any of the four neighbours is not valid.
+std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,
+                                      const Eigen::Vector2d& pixel);
+
+// The sun in each frame, found as the lowest DoLP above the horizon (the antisun, the other zero
+// of DoLP, is below it in daytime). nullopt for a frame whose lowest DoLP is not sun-like (above
+// a quarter of the frame's 99th percentile: the sun is not in view).
+std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
+                                                      const std::vector<std::vector<float>>& dolp);
+
+struct HemisphereDecision {
+  bool ok = false;
+  bool is_north = true;     // the given axis direction is the NCP (true) or the SCP (false)
+  std::string source;       // "sun rotation" or "hint"
+  std::string why;          // when !ok
+};
+
+// Is `axis_camera`, the end of the pole axis above the horizon, the NCP (rather than the SCP)?
+// From the hint when it is north/south, else from the sun's rotation: Σ (s_i × s_{i+1})·axis < 0
+// over consecutive frames with a sun means NCP.
+HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
+                                     const Eigen::Vector3d& axis_camera, Hemisphere hint);
+
+// A valid PoleEstimate for the NCP direction `ncp_camera` (unit, camera frame): fills the pole
+// above the horizon, α_rel, altitude, latitude, heading (or why it is undefined) and the pixel.
+PoleEstimate make_estimate(std::string method, const SkyImages& sky,
+                           const Eigen::Vector3d& ncp_camera, const InputOptions& options);
+
+// An invalid estimate with its reason.
+PoleEstimate invalid_estimate(std::string method, std::string why);
+
+// Pairs of frame indices (i < j) to difference.
+enum class PairMode { consecutive, all, interval };
+PairMode parse_pair_mode(std::string_view name);  // "consecutive" | "all" | "interval"
+std::string_view pair_mode_name(PairMode m);
+std::vector<std::pair<int, int>> make_pairs(int frames, PairMode mode, int interval);
+
+// Unit vector for a float ray.
+inline Eigen::Vector3d to_double(const Eigen::Vector3f& v) { return v.cast<double>(); }
+
+}  // namespace skypol::skypole

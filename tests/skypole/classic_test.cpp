@@ -1,0 +1,144 @@
+// The paper's SkyPole algorithm on synthetic noise-free Rayleigh stacks of the paper's set-up
+// (Marseille roof, 2022-09-23, every 30 min 08:00–16:00 UTC, zenith fisheye), and its failures.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <iostream>
+
+#include "skypole/classic.h"
+#include "synthetic_stack.h"
+
+using namespace skypol;
+
+namespace {
+
+testing::SyntheticSpec paper_spec(double heading) {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.heading_deg = heading;
+  return spec;
+}
+
+}  // namespace
+
+TEST_CASE("classic SkyPole finds the NCP over Marseille within 2 degrees", "[skypole][classic]") {
+  for (double heading : {0.0, 37.0, 90.0, 200.0, 315.0}) {
+    const render::Stack stack = testing::make_stack(paper_spec(heading));
+    const skypole::ClassicResult r = skypole::estimate_classic(stack);
+    const skypole::PoleEstimate& e = r.estimate;
+    INFO("heading " << heading << ": " << e.why_invalid);
+    REQUIRE(e.valid);
+    CHECK(e.is_north);
+    const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+    std::cout << "classic heading " << heading << ": bearing err " << *s.bearing_error_deg
+              << "°, latitude err " << s.latitude_error_deg << "°, angular err "
+              << s.angular_error_deg << "°, residual " << e.residual_deg << "°, confidence "
+              << e.confidence << ", " << e.seconds << " s\n";
+    REQUIRE(s.bearing_error_deg);
+    CHECK(std::abs(*s.bearing_error_deg) < 2.0);
+    CHECK(std::abs(s.latitude_error_deg) < 2.0);
+    CHECK(s.angular_error_deg < 2.0);
+    CHECK(e.pixel.has_value());
+  }
+}
+
+TEST_CASE("classic SkyPole keeps its intermediate images on request", "[skypole][classic]") {
+  skypole::ClassicParams p;
+  p.keep_intermediates = true;
+  const render::Stack stack = testing::make_stack(paper_spec(0));
+  const skypole::ClassicResult r = skypole::estimate_classic(stack, p);
+  REQUIRE(r.estimate.valid);
+  const std::size_t n = 256u * 256u;
+  CHECK(r.images.filtered.size() == stack.frames.size());
+  CHECK(r.images.pairs.size() == stack.frames.size() - 1);  // consecutive pairs
+  CHECK(r.images.differences.size() == r.images.pairs.size());
+  CHECK(r.images.binaries.size() == r.images.pairs.size());
+  CHECK(r.images.thresholds.size() == r.images.pairs.size());
+  CHECK(r.images.sum.size() == n);
+  CHECK(r.images.maximum.size() == n);
+  // The pole pixel lies in the maximal blob's neighbourhood.
+  const auto& px = *stack.frames.front().truth.pole_pixel;
+  const std::size_t i = static_cast<std::size_t>(std::lround(px.y())) * 256u +
+                        static_cast<std::size_t>(std::lround(px.x()));
+  CHECK(r.images.sum[i] >= static_cast<float>(r.images.pairs.size()) - 1.0f);
+}
+
+TEST_CASE("classic SkyPole with all pairs and a fixed interval also works", "[skypole][classic]") {
+  const render::Stack stack = testing::make_stack(paper_spec(120));
+  for (auto mode : {skypole::PairMode::all, skypole::PairMode::interval}) {
+    skypole::ClassicParams p;
+    p.pairs = mode;
+    p.interval = 2;
+    const skypole::PoleEstimate e = skypole::estimate_classic(stack, p).estimate;
+    INFO(skypole::pair_mode_name(mode) << ": " << e.why_invalid);
+    REQUIRE(e.valid);
+    const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+    CHECK(s.angular_error_deg < 3.0);
+  }
+}
+
+TEST_CASE("classic SkyPole in the southern hemisphere finds the SCP", "[skypole][classic]") {
+  testing::SyntheticSpec spec;
+  spec.latitude_deg = -33.87;  // Sydney, local 08:00–16:00 (UTC+10)
+  spec.longitude_deg = 151.21;
+  spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
+  spec.heading_deg = 75;
+  const render::Stack stack = testing::make_stack(spec);
+  const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
+  INFO(e.why_invalid);
+  REQUIRE(e.valid);
+  CHECK_FALSE(e.is_north);
+  CHECK(e.latitude_deg < 0);
+  const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+  std::cout << "classic Sydney: bearing err " << *s.bearing_error_deg << "°, latitude err "
+            << s.latitude_error_deg << "°, angular err " << s.angular_error_deg << "°\n";
+  CHECK(std::abs(s.latitude_error_deg) < 2.0);
+  CHECK(std::abs(*s.bearing_error_deg) < 3.0);
+}
+
+TEST_CASE("classic SkyPole refuses bad input with a clear message", "[skypole][classic]") {
+  SECTION("fewer frames than the method needs") {
+    testing::SyntheticSpec spec = paper_spec(0);
+    spec.times.resize(2);
+    spec.size = 64;
+    const render::Stack stack = testing::make_stack(spec);
+    CHECK_THROWS_WITH(skypole::estimate_classic(stack),
+                      Catch::Contains("at least 3 frames") && Catch::Contains("has 2"));
+  }
+  SECTION("frames without the DoLP channel") {
+    testing::SyntheticSpec spec = paper_spec(0);
+    spec.times.resize(4);
+    spec.size = 64;
+    render::Stack stack = testing::make_stack(spec);
+    stack.frames[2].channels.erase("DoLP.Y");
+    CHECK_THROWS_WITH(skypole::estimate_classic(stack),
+                      Catch::Contains("frame 2") && Catch::Contains("DoLP.Y"));
+  }
+  SECTION("a stack without a camera") {
+    render::Stack stack;
+    CHECK_THROWS_AS(skypole::estimate_classic(stack), std::invalid_argument);
+  }
+  SECTION("the pole outside the field of view") {
+    // Level camera looking south: the NCP (43° up in the north) is 137° off its axis.
+    testing::SyntheticSpec spec = paper_spec(180);
+    spec.tilt_deg = 90;
+    const render::Stack stack = testing::make_stack(spec);
+    const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
+    CHECK_FALSE(e.valid);
+    CHECK(e.why_invalid.find("field of view") != std::string::npos);
+    CHECK_THROWS_AS(skypole::score(e, stack.frames.front().truth), std::invalid_argument);
+  }
+  SECTION("a camera at a geographic pole: latitude yes, bearing undefined") {
+    testing::SyntheticSpec spec = paper_spec(0);
+    spec.latitude_deg = 90;
+    spec.times = testing::times_every("2022-06-21T00:00:00Z", "2022-06-21T08:00:00Z", 30);
+    const render::Stack stack = testing::make_stack(spec);
+    const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
+    INFO(e.why_invalid);
+    REQUIRE(e.valid);
+    CHECK(e.latitude_deg > 87);
+    if (e.latitude_deg > 89.5) CHECK_FALSE(e.heading_deg.has_value());
+    const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+    CHECK_FALSE(s.bearing_error_deg.has_value());
+  }
+}

@@ -1,0 +1,120 @@
+// The conventions of skypole/estimate.h: level frame, heading, latitude, hemisphere, scoring.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "camera/orientation.h"
+#include "skypole/estimate.h"
+#include "skypole/sky_images.h"
+#include "synthetic_stack.h"
+
+using namespace skypol;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A small stack just to get a SkyImages with a lens and a level frame.
+render::Stack tiny_stack(double lat, double heading, double tilt, double roll) {
+  testing::SyntheticSpec spec;
+  spec.latitude_deg = lat;
+  spec.heading_deg = heading;
+  spec.tilt_deg = tilt;
+  spec.roll_deg = roll;
+  spec.size = 64;
+  spec.times = {sky::parse_iso8601("2022-09-23T10:00:00Z")};
+  return testing::make_stack(spec);
+}
+}  // namespace
+
+TEST_CASE("heading composes as Rz(-heading) times the level frame", "[skypole]") {
+  // The level-frame convention relies on this property of camera/orientation.h.
+  for (double h : {0.0, 30.0, 145.0, 300.0})
+    for (double tilt : {0.0, 20.0, 90.0})
+      for (double roll : {0.0, -15.0, 40.0}) {
+        const Eigen::Matrix3d rz =
+            Eigen::AngleAxisd(-h * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        const Eigen::Matrix3d a = camera::world_from_heading_tilt_roll(h, tilt, roll);
+        const Eigen::Matrix3d b = rz * camera::world_from_heading_tilt_roll(0, tilt, roll);
+        CHECK((a - b).cwiseAbs().maxCoeff() < 1e-12);
+      }
+}
+
+TEST_CASE("the true pole turns into the true heading and latitude", "[skypole]") {
+  // Expected values come from the scene (heading, latitude), not from the estimator code.
+  for (double lat : {43.28699, -33.87, 0.5, -70.0})
+    for (double heading : {0.0, 37.0, 181.0, 359.0})
+      for (auto [tilt, roll] : {std::pair{0.0, 0.0}, std::pair{25.0, 10.0}}) {
+        const render::Stack stack = tiny_stack(lat, heading, tilt, roll);
+        const skypole::SkyImages sky =
+            skypole::prepare_sky_images(stack, {}, 1, "test");
+        const render::Truth& t = stack.frames.front().truth;
+        const Eigen::Vector3d ncp_world(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
+        const Eigen::Vector3d ncp_cam = t.world_from_camera.transpose() * ncp_world;
+        const skypole::PoleEstimate e = skypole::make_estimate("truth", sky, ncp_cam, {});
+        INFO("lat " << lat << " heading " << heading << " tilt " << tilt << " roll " << roll);
+        REQUIRE(e.valid);
+        CHECK(e.is_north == (lat >= 0));
+        CHECK(e.latitude_deg == Approx(lat).margin(1e-9));
+        CHECK(e.altitude_deg == Approx(std::abs(lat)).margin(1e-9));
+        REQUIRE(e.heading_deg);
+        CHECK(skypole::wrap180(*e.heading_deg - heading) == Approx(0).margin(1e-9));
+        const skypole::Score s = skypole::score(e, t);
+        CHECK(s.angular_error_deg == Approx(0).margin(1e-6));
+        CHECK(s.latitude_error_deg == Approx(0).margin(1e-9));
+        REQUIRE(s.bearing_error_deg);
+        CHECK(*s.bearing_error_deg == Approx(0).margin(1e-9));
+      }
+}
+
+TEST_CASE("an observer at a geographic pole gets no bearing, never a number", "[skypole]") {
+  const render::Stack stack = tiny_stack(90.0, 10.0, 0, 0);
+  const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
+  const skypole::PoleEstimate e =
+      skypole::make_estimate("truth", sky, Eigen::Vector3d(0, 0, 1), {});
+  CHECK(e.valid);
+  CHECK_FALSE(e.heading_deg.has_value());
+  CHECK(e.note.find("undefined") != std::string::npos);
+  CHECK(e.latitude_deg == Approx(90));
+  const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+  CHECK_FALSE(s.bearing_error_deg.has_value());
+}
+
+TEST_CASE("scores wrap the bearing error and see a wrong hemisphere", "[skypole]") {
+  const render::Stack stack = tiny_stack(43.28699, 350.0, 0, 0);
+  const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
+  const render::Truth& t = stack.frames.front().truth;
+  const double lat = 43.28699 * kDeg;
+  // The NCP rotated 15° east: heading estimate 350 − 15 = 335, error −15 (not 345).
+  const Eigen::Vector3d off(std::sin(15 * kDeg) * std::cos(lat), std::cos(15 * kDeg) * std::cos(lat),
+                            std::sin(lat));
+  const skypole::PoleEstimate e =
+      skypole::make_estimate("t", sky, t.world_from_camera.transpose() * off, {});
+  const skypole::Score s = skypole::score(e, t);
+  REQUIRE(s.bearing_error_deg);
+  CHECK(*s.bearing_error_deg == Approx(-15).margin(1e-9));
+  // Claiming the antipode (the SCP seen as the NCP): angular error 180°.
+  const skypole::PoleEstimate w = skypole::make_estimate(
+      "t", sky, -(t.world_from_camera.transpose() * t.pole_enu), {});
+  CHECK(skypole::score(w, t).angular_error_deg == Approx(180).margin(1e-6));
+  CHECK_THROWS_AS(skypole::score(skypole::invalid_estimate("t", "because"), t),
+                  std::invalid_argument);
+  CHECK(skypole::wrap180(190) == Approx(-170));
+  CHECK(skypole::wrap180(-180) == Approx(180));
+  CHECK(skypole::wrap360(-10) == Approx(350));
+}
+
+TEST_CASE("the masked disk filter averages only valid pixels", "[skypole]") {
+  const render::Stack stack = tiny_stack(43.28699, 0, 0, 0);
+  const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
+  std::vector<float> img(sky.pixels(), 7.0f);
+  for (std::size_t i = 0; i < img.size(); ++i)
+    if (!sky.valid[i]) img[i] = 1000.0f;  // must never leak into the average
+  const std::vector<float> out = skypole::disk_filter(img, sky, 3.0);
+  for (std::size_t i = 0; i < img.size(); ++i)
+    if (sky.valid[i]) REQUIRE(out[i] == Approx(7.0f));
+  CHECK(skypole::default_filter_radius_px(256, 256) == 1.0);
+  CHECK(skypole::default_filter_radius_px(1224, 1024) == 5.0);
+}

@@ -1,0 +1,99 @@
+// Renders the synthetic test stacks (see synthetic_stack.h).
+#include "synthetic_stack.h"
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <random>
+
+#include "camera/camera.h"
+#include "camera/orientation.h"
+#include "camera/radial_lens.h"
+#include "sky/rayleigh.h"
+#include "sky/sun.h"
+
+namespace skypol::testing {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::vector<sky::Instant> times_every(const std::string& start, const std::string& end,
+                                      double step_min) {
+  std::vector<sky::Instant> t;
+  const double a = sky::parse_iso8601(start).unix_seconds;
+  const double b = sky::parse_iso8601(end).unix_seconds;
+  for (double s = a; s <= b + 1e-6; s += step_min * 60.0) t.push_back(sky::Instant{s});
+  return t;
+}
+
+std::vector<sky::Instant> paper_times() {
+  return times_every("2022-09-23T08:00:00Z", "2022-09-23T16:00:00Z", 30);
+}
+
+render::Stack make_stack(const SyntheticSpec& spec) {
+  camera::Intrinsics k;
+  k.width = k.height = spec.size;
+  const double theta_max = 0.5 * spec.fov_deg * kDeg;
+  k.fx = k.fy = 0.5 * spec.size / theta_max;
+  k.cx = k.cy = 0.5 * (spec.size - 1);
+  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, theta_max);
+  const Eigen::Matrix3d world_from_camera =
+      camera::world_from_heading_tilt_roll(spec.heading_deg, spec.tilt_deg, spec.roll_deg);
+  auto cam = std::make_shared<camera::Camera>(lens, world_from_camera);
+
+  render::Stack stack;
+  stack.camera = cam;
+  stack.bands = {spec.band};
+  const sky::Site site{spec.latitude_deg, spec.longitude_deg, 0};
+  const sky::RayleighSky model(sky::RayleighParams{spec.max_dolp});
+  const bool north = spec.latitude_deg >= 0;
+  const double phi = spec.latitude_deg * kDeg;
+  const Eigen::Vector3d ncp(0, std::cos(phi), std::sin(phi));
+  std::mt19937 rng(spec.seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+
+  for (const sky::Instant t : spec.times) {
+    render::Frame f;
+    f.width = f.height = spec.size;
+    f.truth.time = t;
+    f.truth.site = site;
+    f.truth.sun = sky::sun_position(site, t);
+    f.truth.world_from_camera = world_from_camera;
+    f.truth.heading_deg = spec.heading_deg;
+    f.truth.tilt_deg = spec.tilt_deg;
+    f.truth.roll_deg = spec.roll_deg;
+    f.truth.pole_enu = north ? ncp : Eigen::Vector3d(-ncp);
+    f.truth.pole_is_north = north;
+    if (auto px = cam->project(f.truth.pole_enu)) f.truth.pole_pixel = *px;
+    const std::size_t n = static_cast<std::size_t>(spec.size) * static_cast<std::size_t>(spec.size);
+    std::vector<float> dolp(n, 0.0f), aolp(n, 0.0f), mask(n, 0.0f);
+    for (int y = 0; y < spec.size; ++y)
+      for (int x = 0; x < spec.size; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(spec.size) +
+                              static_cast<std::size_t>(x);
+        const auto r = cam->ray(Eigen::Vector2d(x, y));
+        if (!r) continue;
+        sky::Stokes s = model.stokes(r->d, r->e0, f.truth.sun);
+        if (spec.noise > 0) {
+          // Four polarizer intensities I(θ) = ½(S0 + S1 cos 2θ + S2 sin 2θ), each with noise.
+          const double s0 = s.s0;
+          double i0 = 0.5 * (s0 + s.s1), i90 = 0.5 * (s0 - s.s1);
+          double i45 = 0.5 * (s0 + s.s2), i135 = 0.5 * (s0 - s.s2);
+          i0 += 0.5 * s0 * spec.noise * gauss(rng);
+          i90 += 0.5 * s0 * spec.noise * gauss(rng);
+          i45 += 0.5 * s0 * spec.noise * gauss(rng);
+          i135 += 0.5 * s0 * spec.noise * gauss(rng);
+          s = sky::Stokes{0.5 * (i0 + i90 + i45 + i135), i0 - i90, i45 - i135, 0};
+        }
+        dolp[i] = static_cast<float>(s.dolp());
+        aolp[i] = static_cast<float>(cam->sensor_angle(*r, s.aolp()));
+        mask[i] = 1.0f;
+      }
+    f.channels["DoLP." + spec.band] = std::move(dolp);
+    if (spec.with_aolp) f.channels["AoLP." + spec.band] = std::move(aolp);
+    f.channels["mask"] = std::move(mask);
+    stack.frames.push_back(std::move(f));
+  }
+  return stack;
+}
+
+}  // namespace skypol::testing

@@ -1,0 +1,40 @@
+// Synthetic stacks for the estimator tests, rendered here pixel by pixel with camera::Camera::ray
+// and sky::RayleighSky (no EXR round trip): an equidistant 185° fisheye, DoLP/AoLP/mask channels
+// and the truth the renderer would write.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/frame.h"
+#include "sky/time.h"
+
+namespace skypol::testing {
+
+struct SyntheticSpec {
+  double latitude_deg = 43.28699;  // the paper's roof in Marseille
+  double longitude_deg = 5.40336;
+  std::vector<sky::Instant> times;
+  double heading_deg = 0;
+  double tilt_deg = 0;
+  double roll_deg = 0;
+  int size = 256;             // square image, image circle touching the borders
+  double fov_deg = 185;
+  double max_dolp = 1.0;      // Rayleigh Pmax
+  double noise = 0;           // σ of Gaussian noise on each polarizer intensity, in units of S0/2
+  std::uint32_t seed = 1;
+  bool with_aolp = true;
+  std::string band = "Y";
+};
+
+// Times from `start` to `end` inclusive every `step_min` minutes (ISO 8601 with zone).
+std::vector<sky::Instant> times_every(const std::string& start, const std::string& end,
+                                      double step_min);
+
+// The paper's day: 2022-09-23 every 30 min 08:00–16:00 UTC (17 frames).
+std::vector<sky::Instant> paper_times();
+
+render::Stack make_stack(const SyntheticSpec& spec);
+
+}  // namespace skypol::testing
