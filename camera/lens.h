@@ -5,6 +5,7 @@
 // beside the model, with the paper or library it matches.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -35,6 +36,11 @@ class Lens {
 
   // The largest angle off the optical axis the lens images (radians; > π/2 for a 185° fisheye).
   virtual double max_field_angle() const = 0;
+
+  // The same lens seen through a resampled pixel grid u' = s·(u + ½) − ½, v' likewise, on a
+  // sensor of floor(s·width) × floor(s·height) pixels: s = 1/b for b×b binning, s < 1 for a
+  // downscale. Every model in camera/ implements it; the base version throws std::logic_error.
+  virtual std::shared_ptr<const Lens> rescaled(double s) const;
 };
 
 }  // namespace skypol::camera

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "camera/detail/radial_util.h"
+
 namespace skypol::camera {
 namespace {
 
@@ -36,17 +38,7 @@ const MappingInfo& info(Mapping m) {
   throw std::invalid_argument("unknown lens mapping");
 }
 
-void check_intrinsics(const Intrinsics& k) {
-  if (!(std::isfinite(k.fx) && k.fx > 0)) throw std::invalid_argument("fx must be > 0");
-  if (!(std::isfinite(k.fy) && k.fy > 0)) throw std::invalid_argument("fy must be > 0");
-  if (!std::isfinite(k.cx)) throw std::invalid_argument("cx must be finite");
-  if (!std::isfinite(k.cy)) throw std::invalid_argument("cy must be finite");
-  if (k.width < 0) throw std::invalid_argument("width must be >= 0");
-  if (k.height < 0) throw std::invalid_argument("height must be >= 0");
-}
-
-// Slack for directions exactly on the edge of the field of view after a round trip.
-constexpr double kEdgeTol = 1e-12;
+using detail::kEdgeTol;
 
 }  // namespace
 
@@ -63,7 +55,7 @@ std::string_view mapping_name(Mapping m) { return info(m).name; }
 
 RadialLens::RadialLens(Mapping mapping, Intrinsics intrinsics, double max_field_angle)
     : mapping_(mapping), k_(intrinsics), theta_max_(max_field_angle) {
-  check_intrinsics(k_);
+  detail::check_intrinsics(k_);
   const MappingInfo& i = info(mapping_);
   const bool ok = std::isfinite(theta_max_) && theta_max_ > 0 &&
                   (i.limit_inclusive ? theta_max_ <= i.theta_limit : theta_max_ < i.theta_limit);
@@ -100,16 +92,9 @@ double RadialLens::angle(double radius) const {
 }
 
 std::optional<Eigen::Vector2d> RadialLens::project(const Eigen::Vector3d& dir_cam) const {
-  if (!dir_cam.allFinite()) return std::nullopt;
-  const double rho = std::hypot(dir_cam.x(), dir_cam.y());
-  if (rho == 0 && dir_cam.z() <= 0) return std::nullopt;  // zero vector or straight back
-  const double theta = std::atan2(rho, dir_cam.z());
-  if (theta > theta_max_ + kEdgeTol) return std::nullopt;
-  const double r = radius(std::min(theta, theta_max_));
-  // cos φ, sin φ = x/ρ, y/ρ; on the axis r = 0 and φ does not matter.
-  const double c = rho > 0 ? dir_cam.x() / rho : 1.0;
-  const double s = rho > 0 ? dir_cam.y() / rho : 0.0;
-  return Eigen::Vector2d(k_.cx + k_.fx * r * c, k_.cy + k_.fy * r * s);
+  const auto p = detail::polar_of(dir_cam);
+  if (!p || p->theta > theta_max_ + kEdgeTol) return std::nullopt;
+  return detail::pixel_at(k_, radius(std::min(p->theta, theta_max_)), *p);
 }
 
 std::optional<Eigen::Vector3d> RadialLens::ray(const Eigen::Vector2d& pixel) const {
@@ -119,10 +104,11 @@ std::optional<Eigen::Vector3d> RadialLens::ray(const Eigen::Vector2d& pixel) con
   const double r = std::hypot(mx, my);
   const double r_max = radius(theta_max_);
   if (r > r_max * (1 + kEdgeTol)) return std::nullopt;
-  if (r == 0) return Eigen::Vector3d(0, 0, 1);
-  const double theta = std::min(angle(r), theta_max_);
-  const double st = std::sin(theta);
-  return Eigen::Vector3d(st * mx / r, st * my / r, std::cos(theta));
+  return detail::direction(std::min(angle(r), theta_max_), mx, my, r);
+}
+
+std::shared_ptr<const Lens> RadialLens::rescaled(double s) const {
+  return std::make_shared<RadialLens>(mapping_, detail::rescale_intrinsics(k_, s), theta_max_);
 }
 
 }  // namespace skypol::camera

@@ -29,6 +29,7 @@ class RadialLens final : public Lens {
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& dir_cam) const override;
   std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const override;
   double max_field_angle() const override { return theta_max_; }
+  std::shared_ptr<const Lens> rescaled(double s) const override;
   Mapping mapping() const { return mapping_; }
 
   // r(θ) and θ(r) of the mapping, in focal-length units.

@@ -1,0 +1,86 @@
+// Internal helpers shared by the rotationally symmetric lens models: polar decomposition of a
+// direction, intrinsics checks, the turning point of a radial curve and a bracketed solver.
+// Not part of the camera interface.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "camera/lens.h"
+
+namespace skypol::camera::detail {
+
+// Slack for directions and radii exactly on the edge of the field of view after a round trip.
+inline constexpr double kEdgeTol = 1e-12;
+
+// Angle θ off the optical axis and the azimuth (cos φ, sin φ) about it of a camera direction;
+// nullopt for a zero, non-finite or straight-back direction (on the axis φ = 0).
+struct Polar {
+  double theta, c, s;
+};
+std::optional<Polar> polar_of(const Eigen::Vector3d& dir_cam);
+
+// Unit direction at angle θ off the axis, azimuth along (mx, my)/r (r = |(mx, my)|, may be 0).
+Eigen::Vector3d direction(double theta, double mx, double my, double r);
+
+// Pixel at normalized radius r along the azimuth of p.
+inline Eigen::Vector2d pixel_at(const Intrinsics& k, double r, const Polar& p) {
+  return {k.cx + k.fx * r * p.c, k.cy + k.fy * r * p.s};
+}
+
+// Throws std::invalid_argument naming the key (fx, fy, cx, cy, width, height).
+void check_intrinsics(const Intrinsics& k);
+
+// Intrinsics of the same lens on a grid u' = s·(u + ½) − ½.
+Intrinsics rescale_intrinsics(const Intrinsics& k, double s);
+
+// The smallest θ in (0, θmax] where the derivative dr(θ) of a radial curve stops being positive
+// (a dense scan, then bisection), or nullopt if the curve rises over the whole range.
+template <class DR>
+std::optional<double> first_turning_point(DR dr, double theta_max, int samples = 8192) {
+  double prev = 0;
+  for (int i = 1; i <= samples; ++i) {
+    const double t = theta_max * i / samples;
+    if (!(dr(t) > 0)) {
+      double lo = prev, hi = t;
+      for (int j = 0; j < 200 && hi - lo > 1e-15; ++j) {
+        const double mid = 0.5 * (lo + hi);
+        (dr(mid) > 0 ? lo : hi) = mid;
+      }
+      return lo;
+    }
+    prev = t;
+  }
+  return std::nullopt;
+}
+
+// Solves f(x) = target for x in [lo, hi], f non-decreasing there with f(lo) ≤ target ≤ f(hi):
+// Newton steps from `guess`, replaced by bisection whenever they leave the bracket, so it always
+// converges (to the bracket's resolution where f' vanishes). nullopt only if the bracket does
+// not hold the target or the iteration budget runs out.
+template <class F, class DF>
+std::optional<double> solve_increasing(F f, DF df, double target, double lo, double hi,
+                                       double guess) {
+  if (!(f(lo) <= target) || !(f(hi) >= target)) return std::nullopt;
+  double x = std::clamp(guess, lo, hi);
+  for (int i = 0; i < 200; ++i) {
+    const double fx = f(x) - target;
+    if (fx == 0) return x;
+    (fx > 0 ? hi : lo) = x;
+    const double d = df(x);
+    double xn = x - fx / d;
+    if (!(d > 0) || !(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+    if (std::abs(xn - x) <= 1e-15 * std::max(1.0, std::abs(x))) return xn;
+    if (hi - lo <= 1e-15 * std::max(1.0, std::abs(hi))) return xn;
+    x = xn;
+  }
+  return std::nullopt;
+}
+
+std::string format_deg(double rad);  // "87.3°"
+
+}  // namespace skypol::camera::detail

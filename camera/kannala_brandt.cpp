@@ -1,0 +1,70 @@
+// Kannala–Brandt (OpenCV fisheye) forward map and its safeguarded-Newton inverse.
+#include "camera/kannala_brandt.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "camera/detail/radial_util.h"
+
+namespace skypol::camera {
+
+KannalaBrandtLens::KannalaBrandtLens(Intrinsics intrinsics, std::array<double, 4> k,
+                                     double max_field_angle, OnTurnover on_turnover)
+    : k_(intrinsics), coef_(k), theta_max_(max_field_angle) {
+  detail::check_intrinsics(k_);
+  for (std::size_t i = 0; i < coef_.size(); ++i)
+    if (!std::isfinite(coef_[i]))
+      throw std::invalid_argument("k" + std::to_string(i + 1) + " must be finite");
+  if (!(std::isfinite(theta_max_) && theta_max_ > 0 && theta_max_ <= std::numbers::pi))
+    throw std::invalid_argument("field of view must be in (0°, 360°]");
+  const auto turn =
+      detail::first_turning_point([this](double t) { return distorted_derivative(t); }, theta_max_);
+  if (turn) {
+    if (on_turnover == OnTurnover::reject || *turn <= 0)
+      throw std::invalid_argument(
+          "distortion curve not monotone over the declared field of view (turns over at " +
+          detail::format_deg(*turn) + ")");
+    theta_max_ = *turn;
+  }
+  r_max_ = distorted(theta_max_);
+}
+
+double KannalaBrandtLens::distorted(double t) const {
+  const double t2 = t * t;
+  return t * (1 + t2 * (coef_[0] + t2 * (coef_[1] + t2 * (coef_[2] + t2 * coef_[3]))));
+}
+
+double KannalaBrandtLens::distorted_derivative(double t) const {
+  const double t2 = t * t;
+  return 1 + t2 * (3 * coef_[0] + t2 * (5 * coef_[1] + t2 * (7 * coef_[2] + t2 * 9 * coef_[3])));
+}
+
+std::optional<Eigen::Vector2d> KannalaBrandtLens::project(const Eigen::Vector3d& dir_cam) const {
+  const auto p = detail::polar_of(dir_cam);
+  if (!p || p->theta > theta_max_ + detail::kEdgeTol) return std::nullopt;
+  return detail::pixel_at(k_, distorted(std::min(p->theta, theta_max_)), *p);
+}
+
+std::optional<Eigen::Vector3d> KannalaBrandtLens::ray(const Eigen::Vector2d& pixel) const {
+  if (!pixel.allFinite()) return std::nullopt;
+  const double mx = (pixel.x() - k_.cx) / k_.fx;
+  const double my = (pixel.y() - k_.cy) / k_.fy;
+  const double r = std::hypot(mx, my);
+  if (r > r_max_ * (1 + detail::kEdgeTol)) return std::nullopt;
+  if (r == 0) return Eigen::Vector3d(0, 0, 1);
+  const auto theta = detail::solve_increasing([this](double t) { return distorted(t); },
+                                              [this](double t) { return distorted_derivative(t); },
+                                              std::min(r, r_max_), 0.0, theta_max_, r);
+  if (!theta) return std::nullopt;
+  return detail::direction(*theta, mx, my, r);
+}
+
+std::shared_ptr<const Lens> KannalaBrandtLens::rescaled(double s) const {
+  // The turning point, if clamped, is already in theta_max_; it is monotone there by construction.
+  return std::make_shared<KannalaBrandtLens>(detail::rescale_intrinsics(k_, s), coef_, theta_max_,
+                                             OnTurnover::clamp_fov);
+}
+
+}  // namespace skypol::camera
