@@ -1,6 +1,32 @@
-#include <CLI/CLI.hpp>
+// skypol: render skylight polarization stacks and find north in them. See README.md.
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+#include "render/scene_error.h"
+
 int main(int argc, char** argv) {
-  CLI::App app{"skypol: skylight polarization renderer and north-finding benchmark"};
-  CLI11_PARSE(app, argc, argv);
+  CLI::App app{"skypol: a physically based renderer of skylight polarization and a benchmark for "
+               "the estimators that find north in it"};
+  app.require_subcommand(1);
+  skypol::cli::add_render(app);
+  skypol::cli::add_estimate(app);
+  skypol::cli::add_info(app);
+  skypol::cli::add_sun(app);
+  skypol::cli::add_bench(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const skypol::render::SceneError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "internal error: %s\n", e.what());
+    return 3;
+  }
   return 0;
 }

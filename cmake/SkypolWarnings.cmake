@@ -3,7 +3,7 @@ add_library(skypol_warnings INTERFACE)
 target_compile_options(skypol_warnings INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
   -Wnon-virtual-dtor -Wold-style-cast -Wcast-align -Woverloaded-virtual
-  -Wnull-dereference -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+  -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
 option(SKYPOL_WERROR "Treat warnings as errors" ON)
 if(SKYPOL_WERROR)
   target_compile_options(skypol_warnings INTERFACE -Werror)

@@ -1,0 +1,53 @@
+// `skypol render SCENE` writes the stack; `skypol run SCENE` also estimates north on it.
+#include <cstdio>
+
+#include "cli/commands.h"
+#include "cli/estimate_report.h"
+#include "render/pipeline.h"
+
+namespace skypol::cli {
+namespace {
+
+struct RenderArgs {
+  std::string scene;
+  std::string out;
+  bool quiet = false;
+  std::string method = "classic";
+  bool json = false;
+};
+
+std::string render_one(const RenderArgs& a) {
+  const render::Scene scene = render::load_scene(a.scene);
+  const std::string out = a.out.empty() ? scene.output.path : a.out;
+  const render::RenderReport r = render::render_scene(scene, out, make_progress(a.quiet));
+  if (!a.quiet) {
+    std::fprintf(stderr, "wrote %s: %zu frame(s) %dx%d (rays %.2f s, sky %.2f s, encode+write %.2f s)\n", out.c_str(),
+                 r.frames, scene.camera.width, scene.camera.height, r.setup_seconds, r.render_seconds, r.write_seconds);
+  }
+  return out;
+}
+
+}  // namespace
+
+void add_render(CLI::App& app) {
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* render = app.add_subcommand("render", "Render a scene into a multi-part EXR Stokes stack");
+  render->add_option("scene", args->scene, "Scene file (TOML, docs/scenes.md)")->required();
+  render->add_option("-o,--output", args->out, "Output EXR (default: the scene's output.path)");
+  render->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
+  render->callback([args] { render_one(*args); });
+
+  auto run_args = std::make_shared<RenderArgs>();
+  CLI::App* run = app.add_subcommand("run", "Render a scene, then estimate north on the stack and score it");
+  run->add_option("scene", run_args->scene, "Scene file (TOML, docs/scenes.md)")->required();
+  run->add_option("-o,--output", run_args->out, "Output EXR (default: the scene's output.path)");
+  run->add_option("-m,--method", run_args->method, "Estimator (see `skypol estimate --help`)");
+  run->add_flag("--json", run_args->json, "Print the result as JSON");
+  run->add_flag("-q,--quiet", run_args->quiet, "No progress or summary on stderr");
+  run->callback([run_args] {
+    const std::string out = render_one(*run_args);
+    print_estimate(out, run_args->method, run_args->json);
+  });
+}
+
+}  // namespace skypol::cli

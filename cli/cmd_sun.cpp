@@ -1,0 +1,40 @@
+// `skypol sun`: the sun's position for a site and instant, to check a scene's sun without rendering.
+#include <cstdio>
+#include <numbers>
+
+#include "cli/commands.h"
+#include "sky/sun.h"
+
+namespace skypol::cli {
+
+void add_sun(CLI::App& app) {
+  struct Args {
+    sky::Site site;
+    sky::SunOptions options;
+    std::string time;
+  };
+  auto a = std::make_shared<Args>();
+  CLI::App* sun = app.add_subcommand("sun", "Print the sun's azimuth, elevation, declination and hour angle");
+  sun->add_option("--lat", a->site.latitude_deg, "Latitude, degrees north")->required();
+  sun->add_option("--lon", a->site.longitude_deg, "Longitude, degrees east")->required();
+  sun->add_option("--height", a->site.height_m, "Height above the ellipsoid, metres");
+  sun->add_option("-t,--time", a->time, "ISO 8601 instant with zone, e.g. 2022-09-23T12:00:00+02:00")->required();
+  sun->add_option("--pressure", a->options.pressure_hpa, "Pressure in hPa for refraction (0: none)");
+  sun->add_option("--temperature", a->options.temperature_c, "Temperature in °C for refraction");
+  sun->add_option("--dut1", a->options.ut1_minus_utc_s, "UT1−UTC in seconds (IERS), default 0");
+  sun->callback([a] {
+    const sky::Instant t = sky::parse_iso8601(a->time);
+    const sky::Sun s = sky::sun_position(a->site, t, a->options);
+    constexpr double deg = 180 / std::numbers::pi;
+    std::printf("time          %s\n", sky::format_iso8601(t).c_str());
+    std::printf("site          %.6f N  %.6f E  %.1f m\n", a->site.latitude_deg, a->site.longitude_deg, a->site.height_m);
+    std::printf("azimuth       %.6f deg (from North towards East)\n", s.azimuth * deg);
+    std::printf("elevation     %.6f deg%s\n", s.elevation * deg, a->options.pressure_hpa > 0 ? " (refracted)" : " (no refraction)");
+    std::printf("zenith angle  %.6f deg\n", 90 - s.elevation * deg);
+    std::printf("declination   %.6f deg\n", s.declination * deg);
+    std::printf("hour angle    %.6f deg\n", s.hour_angle * deg);
+    std::printf("direction ENU (%.9f, %.9f, %.9f)\n", s.direction.x(), s.direction.y(), s.direction.z());
+  });
+}
+
+}  // namespace skypol::cli

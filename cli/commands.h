@@ -1,0 +1,22 @@
+// The subcommands of `skypol`. Each registers itself on the CLI11 app; errors that a user can fix
+// (scene, stack, arguments) are reported by main() as one line on stderr with exit code 2.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace skypol::cli {
+
+void add_render(CLI::App& app);    // render + run
+void add_info(CLI::App& app);
+void add_sun(CLI::App& app);
+void add_estimate(CLI::App& app);  // estimate + evaluate
+void add_bench(CLI::App& app);
+
+// Progress on stderr, only when stderr is a terminal and not --quiet.
+struct Progress {
+  bool enabled;
+  void operator()(std::size_t done, std::size_t total) const;
+};
+Progress make_progress(bool quiet);
+
+}  // namespace skypol::cli

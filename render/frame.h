@@ -1,0 +1,60 @@
+// What the renderer produces and what the estimators consume: frames of named float channels with
+// the ground truth the renderer knows, and a stack of them sharing one camera.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "camera/camera.h"
+#include "sky/sun.h"
+#include "sky/time.h"
+
+namespace skypol::render {
+
+// The truth of one frame, written into its EXR part's header (docs/exr-format.md).
+struct Truth {
+  sky::Instant time;
+  sky::Site site;
+  sky::Sun sun;                       // radians inside; degrees in the header
+  Eigen::Matrix3d world_from_camera = Eigen::Matrix3d::Identity();
+  double heading_deg = 0;             // camera heading (camera/orientation.h)
+  double tilt_deg = 0;
+  double roll_deg = 0;
+  // The celestial pole an observer at this site sees: north for latitude ≥ 0, south otherwise
+  // (documented rule; at the equator both lie on the horizon and north is chosen).
+  Eigen::Vector3d pole_enu = Eigen::Vector3d::UnitY();
+  bool pole_is_north = true;
+  std::optional<Eigen::Vector2d> pole_pixel;  // nullopt when the lens cannot image it
+};
+
+// A frame: width×height pixels, row-major (index = y·width + x), one float vector per channel.
+// Channel names follow DESIGN.md: "S0.<band>" … "S3.<band>", "DoLP.<band>", "AoLP.<band>" (radians
+// in memory, as in the file), "mask" (1 = sky seen, 0 = outside the image circle or occluded),
+// and for RGB bands also "R", "G", "B".
+struct Frame {
+  int width = 0;
+  int height = 0;
+  Truth truth;
+  std::map<std::string, std::vector<float>> channels;
+
+  bool has(const std::string& name) const { return channels.count(name) != 0; }
+  // Throws std::out_of_range naming the channel and the ones that exist.
+  const std::vector<float>& channel(const std::string& name) const;
+  std::vector<float>& channel(const std::string& name);
+};
+
+// A time series seen by one camera (one EXR file, one part per frame).
+struct Stack {
+  std::shared_ptr<const camera::Camera> camera;
+  std::vector<std::string> bands;     // e.g. {"Y"} or {"R","G","B"}
+  std::vector<Frame> frames;          // in time order
+  std::string camera_description;     // the camera's scene text, enough to rebuild `camera`
+  std::string scene_text;             // provenance: the whole scene as loaded
+};
+
+}  // namespace skypol::render

@@ -1,0 +1,59 @@
+#include "render/pipeline.h"
+
+#include <chrono>
+
+#include "render/renderer.h"
+#include "render/stack_io.h"
+#include "render/truth.h"
+
+namespace skypol::render {
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+}  // namespace
+
+RenderReport render_scene(const Scene& scene, const std::string& out_path,
+                          const std::function<void(std::size_t, std::size_t)>& progress) {
+  RenderReport report;
+  report.path = out_path;
+  report.frames = scene.times.size();
+
+  const auto t_setup = Clock::now();
+  std::shared_ptr<const camera::Camera> cam = build_camera(scene.camera);
+  std::unique_ptr<sky::SkyModel> sky = build_sky(scene.sky);
+  std::vector<Truth> truths;
+  for (sky::Instant t : scene.times) truths.push_back(make_truth(scene, *cam, t));
+  RenderOptions ro;
+  ro.spp = scene.render.spp;
+  ro.seed = scene.render.seed;
+  ro.bands = scene.render.bands;
+  ro.channels = scene.output.channels;
+  const Renderer renderer(cam, ro);
+  report.setup_seconds = since(t_setup);
+
+  StackHeader header;
+  header.bands = scene.render.bands;
+  header.camera_description = scene.camera.description;
+  header.scene_text = scene.text;
+  header.sky_model = sky->name();
+  WriteOptions wo;
+  wo.half = scene.output.half;
+  wo.compression = scene.output.compression;
+
+  const auto t_total = Clock::now();
+  double render_s = 0;
+  write_stack(out_path, truths, channel_names(ro), cam->width(), cam->height(), header, wo, [&](std::size_t i) {
+    if (progress && i > 0) progress(i, truths.size());
+    const auto t0 = Clock::now();
+    Frame f = renderer.render(*sky, truths[i].sun);
+    render_s += since(t0);
+    f.truth = truths[i];
+    return f;
+  });
+  if (progress) progress(truths.size(), truths.size());
+  report.render_seconds = render_s;
+  report.write_seconds = since(t_total) - render_s;
+  return report;
+}
+
+}  // namespace skypol::render

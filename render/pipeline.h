@@ -1,0 +1,24 @@
+// A scene from file to stack on disk: truth for every time, the renderer, the EXR writer. What
+// `skypol render` and `skypol run` do, callable from tests and benchmarks.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "render/scene.h"
+
+namespace skypol::render {
+
+struct RenderReport {
+  std::string path;
+  std::size_t frames = 0;
+  double setup_seconds = 0;   // camera rays (and occlusion) for the whole stack
+  double render_seconds = 0;  // sky evaluation, all frames
+  double write_seconds = 0;   // encoding and writing, all frames
+};
+
+// progress(done, total) is called after each frame (may be empty).
+RenderReport render_scene(const Scene& scene, const std::string& out_path,
+                          const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+}  // namespace skypol::render

@@ -1,0 +1,59 @@
+// The tiled renderer: for each pixel, the camera's ray(s), the occluders' verdict and the sky's
+// Stokes vector in the sensor frame, written as the channels a scene asks for.
+//
+// Camera rays do not change over a time series, so at 1 sample per pixel they are computed once
+// per stack (with the occlusion test) and each frame costs only the sky evaluation. With N > 1
+// samples per pixel the samples are stratified on a ⌈√N⌉×⌈√N⌉ grid with a jitter seeded by
+// (seed, pixel, sample), recomputed per frame; output bytes do not depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camera/camera.h"
+#include "render/frame.h"
+#include "render/occluders.h"
+#include "sky/sky_model.h"
+
+namespace skypol::render {
+
+struct RenderOptions {
+  int spp = 1;
+  std::uint64_t seed = 0;
+  std::vector<std::string> bands{"Y"};
+  // Which of S0, S1, S2, S3, DoLP, AoLP, mask to produce (per band where it applies).
+  std::vector<std::string> channels{"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  int tile_rows = 16;
+};
+
+// Channel names a frame will carry for these options ("S0.Y", …, "R", "G", "B", "mask").
+std::vector<std::string> channel_names(const RenderOptions& options);
+
+class Renderer {
+ public:
+  // occluders may be null (no occluders: no ray tracing at all).
+  Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
+           std::shared_ptr<const Occluders> occluders = nullptr);
+
+  // The channels of one frame (Truth is left default; the caller fills it).
+  Frame render(const sky::SkyModel& sky, const sky::Sun& sun) const;
+
+  const camera::Camera& camera() const { return *camera_; }
+  const RenderOptions& options() const { return options_; }
+
+ private:
+  struct Sample {
+    sky::ViewRay ray;
+    float weight;  // 1 where the sample sees the sky, 0 outside the image circle or occluded
+  };
+  void trace_tile(int y0, int y1, std::vector<Sample>& out) const;
+
+  std::shared_ptr<const camera::Camera> camera_;
+  RenderOptions options_;
+  std::shared_ptr<const Occluders> occluders_;
+  std::vector<Sample> cached_;  // all pixels' samples at spp = 1
+};
+
+}  // namespace skypol::render
