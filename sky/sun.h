@@ -17,7 +17,10 @@ struct Site {
 };
 
 // Refraction and the Earth-orientation inputs. pressure_hpa = 0 means no refraction (the
-// geometric, airless position), which is what skypol's sky models use by default.
+// geometric, airless position), which is what skypol's sky models use by default. With pressure,
+// ERFA's refraction (eraRefco: A·tan z + B·tan³ z) is good to ~1″ above 15° elevation, degrades
+// towards the horizon and is capped below ~3° (finite, not accurate, for a sun at or under it).
+// ΔT is not an input: ERFA forms TT from UTC with its leap-second table; UT1 = UTC + ut1_minus_utc_s.
 struct SunOptions {
   double pressure_hpa = 0;
   double temperature_c = 15;
@@ -27,15 +30,22 @@ struct SunOptions {
 };
 
 // Radians inside (degrees only at the interfaces a person sees).
+// declination and hour_angle are ERFA's *observed* (eraAtioq's dob, hob) place: the apparent (CIRS)
+// equatorial coordinates seen from the site, i.e. topocentric (parallax ≤ 8.8″ and diurnal
+// aberration included) and refracted only when SunOptions asked for refraction. They are exactly
+// the equatorial coordinates of `direction` for this latitude, so SkyPole's SI eq. 1 and
+// S·NCP = sin δ (SI eq. 4) hold to rounding. Polar motion is taken as zero.
 struct Sun {
   double azimuth = 0;      // from North towards East, [0, 2π)
   double elevation = 0;    // above the horizon, refracted if SunOptions asked for it
-  double declination = 0;  // apparent (CIRS) declination
-  double hour_angle = 0;   // local apparent hour angle, (−π, π], 0 at upper culmination
+  double declination = 0;  // apparent declination, topocentric (see above)
+  double hour_angle = 0;   // local apparent hour angle, (−π, π], 0 at upper culmination, > 0 after it
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit vector in ENU towards the sun
 };
 
-// Throws std::invalid_argument for a latitude outside [−90°, 90°] or a non-finite input.
+// Throws std::invalid_argument for a latitude outside [−90°, 90°], a non-finite input, or options
+// out of range (pressure < 0, humidity outside [0, 1], wavelength ≤ 0, |UT1−UTC| ≥ 1 s).
+// At a pole the azimuth follows ERFA's rule: "north" is the limit along the site's meridian.
 Sun sun_position(const Site& site, Instant t, const SunOptions& options = {});
 
 // ENU unit vector from azimuth (from North towards East) and elevation, radians; and back.
@@ -43,8 +53,8 @@ Eigen::Vector3d enu_direction(double azimuth, double elevation);
 double azimuth_of(const Eigen::Vector3d& enu);    // [0, 2π); 0 for the zenith (documented rule)
 double elevation_of(const Eigen::Vector3d& enu);  // [−π/2, π/2]
 
-// The north celestial pole in ENU for a site (the south pole for southern latitudes is its
-// negative). Latitude in degrees.
+// The north celestial pole in ENU for a site: (0, cos φ, sin φ); the south celestial pole is its
+// negative (the visible one for southern latitudes). Latitude in degrees; throws outside ±90°.
 Eigen::Vector3d north_celestial_pole(double latitude_deg);
 
 }  // namespace skypol::sky

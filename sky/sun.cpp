@@ -1,0 +1,141 @@
+// The sun's place for an observer, with ERFA (IAU SOFA).
+//
+// Chain (all ERFA, IAU 2006/2000A):
+//   eraDtf2d   UTC calendar fields → ERFA's two-part quasi-JD UTC (leap-second aware)
+//   eraApco13  everything that depends on the site and the instant: TT from UTC via ERFA's
+//              leap-second table (TT = UTC + ΔAT + 32.184 s), UT1 = UTC + ut1_minus_utc_s, the
+//              Earth's barycentric/heliocentric position and velocity (eraEpv00), the observer's
+//              geocentric position (WGS84), precession-nutation, Earth rotation angle, refraction
+//              constants (eraRefco; all zero when pressure = 0)
+//   the sun    its direction from the observer is −astrom.eh (eh = Sun→observer unit vector, which
+//              already includes the observer's offset from the geocentre, i.e. parallax); light time
+//              is neglected (the Sun moves ~12 m/s about the barycentre: < 0.01″ in 8.3 min)
+//   eraAb      aberration by the observer's barycentric velocity (annual + diurnal; eraApco puts
+//              the diurnal part into v and sets diurab = 0)
+//   eraRxp     bias-precession-nutation: BCRS direction → CIRS
+//   eraAtioq   CIRS → observed azimuth, zenith distance, hour angle, declination (refraction by
+//              ERFA's A·tan z + B·tan³ z model when pressure > 0)
+//
+// ΔT and UT1−UTC: ERFA derives TT from UTC through its built-in leap-second table, so ΔT is not an
+// input; UT1−UTC defaults to 0 (|UT1−UTC| < 0.9 s, i.e. < 0.004° of hour angle) and is taken
+// from SunOptions when a user has IERS Bulletin A values.
+#include "sky/sun.h"
+
+#include <erfa.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace skypol::sky {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument(message);
+}
+
+void check_site(const Site& site) {
+  require(std::isfinite(site.latitude_deg) && site.latitude_deg >= -90.0 && site.latitude_deg <= 90.0,
+          "site latitude " + std::to_string(site.latitude_deg) +
+              "° is outside [−90°, 90°] (geodetic latitude, north positive)");
+  require(std::isfinite(site.longitude_deg),
+          "site longitude must be a finite number of degrees (east positive)");
+  require(std::isfinite(site.height_m) && site.height_m > -12000.0 && site.height_m < 100000.0,
+          "site height " + std::to_string(site.height_m) +
+              " m above the WGS84 ellipsoid is outside (−12 km, 100 km)");
+}
+
+void check_options(const SunOptions& o) {
+  require(std::isfinite(o.pressure_hpa) && o.pressure_hpa >= 0.0,
+          "pressure " + std::to_string(o.pressure_hpa) + " hPa must be ≥ 0 (0 = no refraction)");
+  require(std::isfinite(o.temperature_c) && o.temperature_c > -150.0 && o.temperature_c < 200.0,
+          "temperature " + std::to_string(o.temperature_c) + " °C is outside (−150, 200)");
+  require(std::isfinite(o.relative_humidity) && o.relative_humidity >= 0.0 && o.relative_humidity <= 1.0,
+          "relative humidity " + std::to_string(o.relative_humidity) + " must be in [0, 1]");
+  require(std::isfinite(o.wavelength_um) && o.wavelength_um > 0.0,
+          "wavelength " + std::to_string(o.wavelength_um) + " µm must be > 0");
+  require(std::isfinite(o.ut1_minus_utc_s) && std::abs(o.ut1_minus_utc_s) < 1.0,
+          "UT1−UTC " + std::to_string(o.ut1_minus_utc_s) + " s must be within ±1 s (IERS keeps it < 0.9 s)");
+}
+
+// (−π, π]
+double wrap_pm_pi(double a) {
+  a = std::remainder(a, 2.0 * kPi);  // [−π, π]
+  return a <= -kPi ? a + 2.0 * kPi : a;
+}
+
+// [0, 2π)
+double wrap_2pi(double a) {
+  a = std::fmod(a, 2.0 * kPi);
+  if (a < 0) a += 2.0 * kPi;
+  return a >= 2.0 * kPi ? 0.0 : a;
+}
+
+}  // namespace
+
+Sun sun_position(const Site& site, Instant t, const SunOptions& options) {
+  check_site(site);
+  check_options(options);
+  require(std::isfinite(t.unix_seconds), "the instant is not a finite time");
+
+  const CalendarUtc cal = to_calendar(t);
+  double utc1 = 0, utc2 = 0;
+  const int dtf = eraDtf2d("UTC", cal.year, cal.month, cal.day, cal.hour, cal.minute, cal.second, &utc1, &utc2);
+  require(dtf >= 0, "ERFA cannot represent the instant " + format_iso8601(t) + " as UTC");
+
+  eraASTROM astrom{};
+  double eo = 0;
+  const int st = eraApco13(utc1, utc2, options.ut1_minus_utc_s, site.longitude_deg * kDeg,
+                           site.latitude_deg * kDeg, site.height_m, 0.0, 0.0, options.pressure_hpa,
+                           options.temperature_c, options.relative_humidity, options.wavelength_um,
+                           &astrom, &eo);
+  // st = +1 is ERFA's "dubious year" (outside its leap-second table, e.g. decades ahead): the
+  // result is still the best available, so it is used; −1 is a date ERFA cannot handle.
+  require(st >= 0, "ERFA rejects the instant " + format_iso8601(t) + " (unacceptable date)");
+
+  double pnat[3] = {-astrom.eh[0], -astrom.eh[1], -astrom.eh[2]};
+  double ppr[3];
+  eraAb(pnat, astrom.v, astrom.em, astrom.bm1, ppr);
+  double pcirs[3];
+  eraRxp(astrom.bpn, ppr, pcirs);
+  double ri = 0, di = 0;
+  eraC2s(pcirs, &ri, &di);
+  double aob = 0, zob = 0, hob = 0, dob = 0, rob = 0;
+  eraAtioq(ri, di, &astrom, &aob, &zob, &hob, &dob, &rob);
+
+  Sun sun;
+  sun.azimuth = wrap_2pi(aob);
+  sun.elevation = kPi / 2 - zob;
+  sun.declination = dob;
+  sun.hour_angle = wrap_pm_pi(hob);
+  sun.direction = enu_direction(sun.azimuth, sun.elevation);
+  return sun;
+}
+
+Eigen::Vector3d enu_direction(double azimuth, double elevation) {
+  const double ce = std::cos(elevation);
+  return {ce * std::sin(azimuth), ce * std::cos(azimuth), std::sin(elevation)};
+}
+
+double azimuth_of(const Eigen::Vector3d& enu) {
+  if (enu.x() == 0.0 && enu.y() == 0.0) return 0.0;  // the zenith/nadir: documented rule
+  return wrap_2pi(std::atan2(enu.x(), enu.y()));
+}
+
+double elevation_of(const Eigen::Vector3d& enu) {
+  // atan2 rather than asin: exact at the zenith and tolerant of a vector that is not quite unit.
+  return std::atan2(enu.z(), std::hypot(enu.x(), enu.y()));
+}
+
+Eigen::Vector3d north_celestial_pole(double latitude_deg) {
+  require(std::isfinite(latitude_deg) && latitude_deg >= -90.0 && latitude_deg <= 90.0,
+          "latitude " + std::to_string(latitude_deg) + "° is outside [−90°, 90°]");
+  const double phi = latitude_deg * kDeg;
+  return {0.0, std::cos(phi), std::sin(phi)};
+}
+
+}  // namespace skypol::sky
