@@ -1,0 +1,176 @@
+// DoFP sensor simulation and bilinear demosaic; the noise model is in dofp_sensor.h.
+#include "camera/dofp_sensor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace skypol::camera {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// SplitMix64's finalizer (Steele, Lea, Flood 2014): a bijective 64-bit mixer, good enough to turn
+// (seed, frame, pixel, draw) counters into independent uniform bits.
+constexpr std::uint64_t mix(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ULL;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+  return x ^ (x >> 31);
+}
+
+// Random numbers of one pixel of one frame: a pure function of its counters, no shared state.
+class PixelRandom {
+ public:
+  PixelRandom(std::uint64_t seed, std::uint64_t frame, std::uint64_t pixel)
+      : key_(mix(mix(mix(seed) ^ frame) ^ pixel)) {}
+  double uniform() {  // [0, 1)
+    return static_cast<double>(mix(key_ + 0x632BE59BD9B4E019ULL * ++count_) >> 11) * 0x1p-53;
+  }
+  double normal() {  // Box–Muller
+    const double u1 = 1 - uniform(), u2 = uniform();
+    return std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2);
+  }
+  // Poisson by inversion below 64 (exact); above, the Gaussian of the same mean and variance
+  // rounded to an integer, indistinguishable from Poisson at those counts for this purpose.
+  double poisson(double mean) {
+    if (!(mean > 0)) return 0;
+    if (mean >= 64) return std::max(0.0, std::round(mean + std::sqrt(mean) * normal()));
+    const double u = uniform();
+    double p = std::exp(-mean), cdf = p;
+    int k = 0;
+    while (u > cdf && k < 1000) {
+      ++k;
+      p *= mean / k;
+      cdf += p;
+    }
+    return k;
+  }
+
+ private:
+  std::uint64_t key_;
+  std::uint64_t count_ = 0;
+};
+
+int mosaic_index(int row, int col) { return 2 * (row & 1) + (col & 1); }
+
+void require(bool ok, const char* what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+}  // namespace
+
+void validate(const DofpSensor& s) {
+  require(s.width >= 2, "width must be >= 2");
+  require(s.height >= 2, "height must be >= 2");
+  for (double a : s.mosaic_deg) require(std::isfinite(a), "mosaic_deg must be finite");
+  for (double a : s.angle_error_deg) require(std::isfinite(a), "angle_error_deg must be finite");
+  require(std::isfinite(s.extinction_ratio) && s.extinction_ratio > 1, "extinction_ratio must be > 1");
+  require(std::isfinite(s.exposure_us) && s.exposure_us > 0, "exposure_us must be > 0");
+  require(std::isfinite(s.electrons_per_radiance_s) && s.electrons_per_radiance_s > 0,
+          "electrons_per_radiance_s must be > 0");
+  require(std::isfinite(s.gain_dn_per_e) && s.gain_dn_per_e > 0, "gain_dn_per_e must be > 0");
+  require(std::isfinite(s.black_level_dn) && s.black_level_dn >= 0, "black_level_dn must be >= 0");
+  require(std::isfinite(s.read_noise_e) && s.read_noise_e >= 0, "read_noise_e must be >= 0");
+  require(std::isfinite(s.dark_current_e_s) && s.dark_current_e_s >= 0, "dark_current_e_s must be >= 0");
+  require(std::isfinite(s.full_well_e) && s.full_well_e > 0, "full_well_e must be > 0");
+  require(s.adc_bits >= 1 && s.adc_bits <= 16, "adc_bits must be in [1, 16]");
+}
+
+double polarizer_radiance(const DofpSensor& s, int row, int col, double s0, double s1, double s2) {
+  const int i = mosaic_index(row, col);
+  const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;
+  const double tmin = 1 / s.extinction_ratio;  // Tmax = 1
+  return 0.5 * ((1 + tmin) * s0 + (1 - tmin) * (s1 * std::cos(2 * th) + s2 * std::sin(2 * th)));
+}
+
+std::uint16_t simulate_pixel(const DofpSensor& s, int row, int col, double s0, double s1, double s2,
+                             std::uint64_t frame) {
+  double radiance = polarizer_radiance(s, row, col, s0, s1, s2);
+  if (!std::isfinite(radiance) || radiance < 0) radiance = 0;  // masked or unphysical input
+  const double t = s.exposure_us * 1e-6;
+  const double mean_e = radiance * s.electrons_per_radiance_s * t + s.dark_current_e_s * t;
+  const auto pixel = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(s.width) +
+                     static_cast<std::uint64_t>(col);
+  PixelRandom rng(s.seed, frame, pixel);
+  double e = s.shot_noise ? rng.poisson(mean_e) : mean_e;
+  e = std::min(e, s.full_well_e);
+  if (s.read_noise_e > 0) e += s.read_noise_e * rng.normal();
+  const double max_dn = std::ldexp(1.0, s.adc_bits) - 1;
+  const double dn = std::clamp(std::round(s.gain_dn_per_e * e + s.black_level_dn), 0.0, max_dn);
+  return static_cast<std::uint16_t>(dn);
+}
+
+std::vector<std::uint16_t> simulate_raw(const DofpSensor& s, std::span<const float> s0,
+                                        std::span<const float> s1, std::span<const float> s2,
+                                        std::uint64_t frame) {
+  validate(s);
+  const auto n = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+  if (s0.size() != n || s1.size() != n || s2.size() != n)
+    throw std::invalid_argument("Stokes images must hold width*height values");
+  std::vector<std::uint16_t> raw(n);
+  for (int r = 0; r < s.height; ++r)
+    for (int c = 0; c < s.width; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.width) + c;
+      raw[i] = simulate_pixel(s, r, c, s0[i], s1[i], s2[i], frame);
+    }
+  return raw;
+}
+
+StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw) {
+  validate(s);
+  const int w = s.width, h = s.height;
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
+  // Which mosaic position holds 0°, 45°, 90°, 135°.
+  std::array<int, 4> pos{-1, -1, -1, -1};
+  for (int i = 0; i < 4; ++i) {
+    const double a = std::fmod(std::fmod(s.mosaic_deg[i], 180.0) + 180.0, 180.0);
+    for (int k = 0; k < 4; ++k)
+      if (std::abs(a - 45.0 * k) < 1e-9) pos[k] = i;
+  }
+  for (int k : pos)
+    if (k < 0) throw std::invalid_argument("mosaic_deg must hold 0, 45, 90 and 135");
+
+  const double t = s.exposure_us * 1e-6;
+  const double dark_e = s.dark_current_e_s * t;
+  const double scale = 1 / (s.electrons_per_radiance_s * t);
+  auto radiance = [&](int r, int c) {
+    const double dn = raw[static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c];
+    return ((dn - s.black_level_dn) / s.gain_dn_per_e - dark_e) * scale;
+  };
+  // Bilinear interpolation of the channel at mosaic position p = (oy, ox): its samples sit at
+  // rows oy + 2i, cols ox + 2j; outside them the nearest row/column is repeated.
+  auto channel = [&](int p, int r, int c) {
+    const int oy = p >> 1, ox = p & 1;
+    const int ny = (h - oy + 1) / 2, nx = (w - ox + 1) / 2;
+    const double y = 0.5 * (r - oy), x = 0.5 * (c - ox);
+    const int i0 = static_cast<int>(std::floor(y)), j0 = static_cast<int>(std::floor(x));
+    const double fy = y - i0, fx = x - j0;
+    auto at = [&](int i, int j) {
+      i = std::clamp(i, 0, ny - 1);
+      j = std::clamp(j, 0, nx - 1);
+      return radiance(oy + 2 * i, ox + 2 * j);
+    };
+    return (1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i0, j0 + 1)) +
+           fy * ((1 - fx) * at(i0 + 1, j0) + fx * at(i0 + 1, j0 + 1));
+  };
+  StokesPlanes out;
+  out.s0.resize(n);
+  out.s1.resize(n);
+  out.s2.resize(n);
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const double i0 = channel(pos[0], r, c), i45 = channel(pos[1], r, c);
+      const double i90 = channel(pos[2], r, c), i135 = channel(pos[3], r, c);
+      const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c;
+      out.s0[i] = static_cast<float>(0.5 * (i0 + i45 + i90 + i135));
+      out.s1[i] = static_cast<float>(i0 - i90);
+      out.s2[i] = static_cast<float>(i45 - i135);
+    }
+  return out;
+}
+
+}  // namespace skypol::camera

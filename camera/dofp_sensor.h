@@ -1,0 +1,67 @@
+// A division-of-focal-plane polarization sensor (Sony IMX250MZR-like): a 2×2 micro-polarizer
+// mosaic in front of the pixels, photon shot noise, dark current, read noise, full-well
+// saturation and ADC quantization, and the bilinear demosaic back to Stokes images.
+// Pure functions over plain buffers (row-major, width × height, sensor frame: polarizer angles
+// from sensor +x towards +y, docs/conventions.md). Each pixel's random numbers come from a
+// counter-based hash of (seed, frame index, pixel index), so a frame is the same bit for bit
+// whatever the order or the threads that compute it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace skypol::camera {
+
+struct DofpSensor {
+  int width = 0, height = 0;
+  // Polarizer angle (degrees) of the pixels at (row mod 2, col mod 2), in the order
+  // {(0,0), (0,1), (1,0), (1,1)}: the IMX250MZR's 90° 45° over 135° 0°.
+  std::array<double, 4> mosaic_deg = {90, 45, 135, 0};
+  // Manufacturing errors per mosaic position: angle offsets (degrees) added to mosaic_deg.
+  std::array<double, 4> angle_error_deg = {0, 0, 0, 0};
+  double extinction_ratio = 1e9;  // Tmax/Tmin of the micro-polarizers (> 1; large = ideal)
+
+  double exposure_us = 1000;
+  // Photo-electrons per second for one unit of radiance reaching the pixel through an ideal
+  // polarizer (folds in optics, QE and pixel area: the scene's radiance units → electrons).
+  double electrons_per_radiance_s = 1e6;
+  double gain_dn_per_e = 0.39;    // conversion gain after the analog gain
+  double black_level_dn = 0;      // ADC offset added before quantization
+  double read_noise_e = 2.3;      // rms, Gaussian
+  double dark_current_e_s = 3;    // mean dark electrons per second
+  double full_well_e = 10500;     // the pixel saturates here
+  int adc_bits = 12;              // output 0 .. 2^bits − 1 DN
+  bool shot_noise = true;         // Poisson photon and dark-current noise
+  std::uint64_t seed = 0;
+};
+
+// Throws std::invalid_argument naming the field (width, extinction_ratio, adc_bits, ...).
+void validate(const DofpSensor& sensor);
+
+// Mean radiance reaching the pixel at (row, col) behind its polarizer, for Stokes (s0, s1, s2)
+// in the sensor frame: ½[(1 + 1/ER)·S0 + (1 − 1/ER)·(S1 cos 2θ + S2 sin 2θ)], θ with its error.
+double polarizer_radiance(const DofpSensor& sensor, int row, int col, double s0, double s1, double s2);
+
+// One raw pixel value (DN) of frame `frame` — the function every pixel of simulate_raw calls.
+std::uint16_t simulate_pixel(const DofpSensor& sensor, int row, int col, double s0, double s1,
+                             double s2, std::uint64_t frame);
+
+// The raw mosaic (DN, row-major) of a frame from per-pixel Stokes images in the sensor frame.
+// Buffers must hold width·height values; throws std::invalid_argument otherwise.
+std::vector<std::uint16_t> simulate_raw(const DofpSensor& sensor, std::span<const float> s0,
+                                        std::span<const float> s1, std::span<const float> s2,
+                                        std::uint64_t frame);
+
+// Stokes images recovered from a raw mosaic: DN → radiance (black level, mean dark signal, gain,
+// exposure undone), each polarizer channel interpolated bilinearly to every pixel, then
+// S0 = ½(I0 + I45 + I90 + I135), S1 = I0 − I90, S2 = I45 − I135 — assuming ideal polarizers at
+// the nominal mosaic angles, as an uncalibrated pipeline does (so ER and angle errors show up).
+// The mosaic must hold the four angles 0, 45, 90, 135 in some order.
+struct StokesPlanes {
+  std::vector<float> s0, s1, s2;
+};
+StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const std::uint16_t> raw);
+
+}  // namespace skypol::camera

@@ -1,0 +1,201 @@
+// DoFP sensor: Malus' law per mosaic pixel, the IMX250MZR layout, noise statistics, saturation,
+// reproducibility per seed, and the bilinear demosaic on known patterns.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include "camera/dofp_sensor.h"
+
+using namespace skypol::camera;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180;
+
+// Noise-free sensor: 1 DN per electron, 4000 e per unit radiance (exposure 1 ms).
+DofpSensor clean(int w = 64, int h = 48) {
+  DofpSensor s;
+  s.width = w;
+  s.height = h;
+  s.exposure_us = 1000;
+  s.electrons_per_radiance_s = 4e6;
+  s.gain_dn_per_e = 1;
+  s.read_noise_e = 0;
+  s.dark_current_e_s = 0;
+  s.shot_noise = false;
+  s.full_well_e = 1e9;
+  s.adc_bits = 16;
+  return s;
+}
+
+struct Field {
+  std::vector<float> s0, s1, s2;
+};
+Field uniform(const DofpSensor& s, float s0, float s1, float s2) {
+  const auto n = static_cast<std::size_t>(s.width * s.height);
+  return {std::vector<float>(n, s0), std::vector<float>(n, s1), std::vector<float>(n, s2)};
+}
+
+// Mean and variance of the raw values of one mosaic position.
+std::pair<double, double> stats(const std::vector<std::uint16_t>& raw, const DofpSensor& s, int pos) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int r = pos >> 1; r < s.height; r += 2)
+    for (int c = pos & 1; c < s.width; c += 2) {
+      const double v = raw[static_cast<std::size_t>(r * s.width + c)];
+      sum += v;
+      sum2 += v * v;
+      ++n;
+    }
+  const double mean = sum / n;
+  return {mean, sum2 / n - mean * mean};
+}
+}  // namespace
+
+TEST_CASE("Malus' law behind each micro-polarizer, with extinction ratio and angle error", "[sensor]") {
+  DofpSensor s = clean();
+  // IMX250MZR layout: (0,0) 90°, (0,1) 45°, (1,0) 135°, (1,1) 0°. Light polarized at 0°, S = (1, 1, 0).
+  CHECK(polarizer_radiance(s, 0, 0, 1, 1, 0) == Approx(0).margin(1e-8));
+  CHECK(polarizer_radiance(s, 0, 1, 1, 1, 0) == Approx(0.5));
+  CHECK(polarizer_radiance(s, 1, 0, 1, 1, 0) == Approx(0.5));
+  CHECK(polarizer_radiance(s, 1, 1, 1, 1, 0) == Approx(1));
+  CHECK(polarizer_radiance(s, 2, 5, 1, 0, 1) == Approx(1));  // 45° light on a 45° pixel (even row, odd col)
+  // Unpolarized light: half of S0 everywhere.
+  CHECK(polarizer_radiance(s, 2, 2, 2, 0, 0) == Approx(1));
+  // Extinction ratio 100: crossed polarizer passes S0/ER.
+  s.extinction_ratio = 100;
+  CHECK(polarizer_radiance(s, 1, 1, 1, -1, 0) == Approx(0.01));
+  // A 0° pixel rotated by +5°: ½(1 + cos 10°) of 0°-polarized light.
+  s.extinction_ratio = 1e12;
+  s.angle_error_deg = {0, 0, 0, 5};
+  CHECK(polarizer_radiance(s, 1, 1, 1, 1, 0) == Approx(0.5 * (1 + std::cos(10 * kDeg))));
+}
+
+TEST_CASE("noise-free uniform field: raw values and demosaic recover Stokes to quantization", "[sensor]") {
+  const DofpSensor s = clean();
+  const Field f = uniform(s, 1.0f, 0.3f, -0.2f);
+  const auto raw = simulate_raw(s, f.s0, f.s1, f.s2, 0);
+  // 0° pixel (1,1): ½(1 + 0.3)·4000 = 2600 DN; 90° pixel (0,0): ½(1 − 0.3)·4000 = 1400 DN.
+  CHECK(raw[static_cast<std::size_t>(1 * s.width + 1)] == 2600);
+  CHECK(raw[0] == 1400);
+  CHECK(raw[1] == 1600);  // 45°: ½(1 − 0.2)·4000
+  const StokesPlanes st = demosaic_bilinear(s, raw);
+  for (std::size_t i = 0; i < st.s0.size(); ++i) {
+    REQUIRE(st.s0[i] == Approx(1.0).margin(3e-4));
+    REQUIRE(st.s1[i] == Approx(0.3).margin(3e-4));
+    REQUIRE(st.s2[i] == Approx(-0.2).margin(3e-4));
+  }
+}
+
+TEST_CASE("bilinear demosaic is exact on a linear ramp away from the border", "[sensor]") {
+  const DofpSensor s = clean(40, 30);
+  Field f = uniform(s, 0, 0, 0);
+  // S0 = 0.5 + 0.01·col + 0.005·row, S1 = 0.2·S0 (DoLP 0.2 at 0°), S2 = −0.004·col.
+  for (int r = 0; r < s.height; ++r)
+    for (int c = 0; c < s.width; ++c) {
+      const auto i = static_cast<std::size_t>(r * s.width + c);
+      f.s0[i] = static_cast<float>(0.5 + 0.01 * c + 0.005 * r);
+      f.s1[i] = 0.2f * f.s0[i];
+      f.s2[i] = static_cast<float>(-0.004 * c);
+    }
+  const StokesPlanes st = demosaic_bilinear(s, simulate_raw(s, f.s0, f.s1, f.s2, 0));
+  for (int r = 1; r < s.height - 1; ++r)
+    for (int c = 1; c < s.width - 1; ++c) {
+      const auto i = static_cast<std::size_t>(r * s.width + c);
+      REQUIRE(st.s0[i] == Approx(f.s0[i]).margin(3e-4));
+      REQUIRE(st.s1[i] == Approx(f.s1[i]).margin(3e-4));
+      REQUIRE(st.s2[i] == Approx(f.s2[i]).margin(3e-4));
+    }
+}
+
+TEST_CASE("uncalibrated demosaic shows the extinction ratio: DoLP 1 reads (ER−1)/(ER+1)", "[sensor]") {
+  DofpSensor s = clean();
+  s.extinction_ratio = 100;
+  const Field f = uniform(s, 1, 0, 1);  // fully polarized at 45°
+  const StokesPlanes st = demosaic_bilinear(s, simulate_raw(s, f.s0, f.s1, f.s2, 0));
+  const std::size_t i = 10 * 64 + 10;
+  const double dolp = std::hypot(st.s1[i], st.s2[i]) / st.s0[i];
+  CHECK(dolp == Approx(99.0 / 101.0).margin(5e-4));
+}
+
+TEST_CASE("photon transfer: mean g·λ and variance g²(λ + σr²) + 1/12, Poisson and Gaussian regimes", "[sensor]") {
+  for (double lambda : {20.0, 1000.0}) {
+    DofpSensor s = clean(256, 256);
+    s.shot_noise = true;
+    s.read_noise_e = 2;
+    s.seed = 7;
+    // Unpolarized S0 = 2λ/4000 → λ electrons behind every polarizer.
+    const Field f = uniform(s, static_cast<float>(2 * lambda / 4000), 0, 0);
+    const auto raw = simulate_raw(s, f.s0, f.s1, f.s2, 3);
+    for (int pos = 0; pos < 4; ++pos) {
+      const auto [mean, var] = stats(raw, s, pos);
+      INFO("lambda " << lambda << " pos " << pos << " mean " << mean << " var " << var);
+      CHECK(mean == Approx(lambda).epsilon(0.005));
+      CHECK(var == Approx(lambda + 4 + 1.0 / 12).epsilon(0.05));
+    }
+  }
+}
+
+TEST_CASE("dark current, full well and ADC clipping", "[sensor]") {
+  DofpSensor s = clean(32, 32);
+  s.exposure_us = 1e6;  // 1 s
+  s.dark_current_e_s = 500;
+  s.electrons_per_radiance_s = 1;
+  const Field dark = uniform(s, 0, 0, 0);
+  const auto raw = simulate_raw(s, dark.s0, dark.s1, dark.s2, 0);
+  CHECK(raw[5] == 500);
+  // Full well 10500 e at 0.39 DN/e is 4095 DN = 12-bit full scale.
+  s = clean(32, 32);
+  s.full_well_e = 10500;
+  s.gain_dn_per_e = 0.39;
+  s.adc_bits = 12;
+  const Field bright = uniform(s, 1e3f, 0, 0);
+  for (auto v : simulate_raw(s, bright.s0, bright.s1, bright.s2, 0)) REQUIRE(v == 4095);
+  s.gain_dn_per_e = 0.2;  // saturates at the well: 2100 DN
+  for (auto v : simulate_raw(s, bright.s0, bright.s1, bright.s2, 0)) REQUIRE(v == 2100);
+  s.gain_dn_per_e = 1;  // saturates at the ADC: 4095 DN
+  for (auto v : simulate_raw(s, bright.s0, bright.s1, bright.s2, 0)) REQUIRE(v == 4095);
+  // NaN or negative input (masked pixels) reads as black, never as garbage.
+  const Field nan = uniform(s, std::nanf(""), 0, 0);
+  for (auto v : simulate_raw(s, nan.s0, nan.s1, nan.s2, 0)) REQUIRE(v == 0);
+}
+
+TEST_CASE("noise is reproducible per (seed, frame, pixel), whatever the order of evaluation", "[sensor]") {
+  DofpSensor s = clean(50, 40);
+  s.shot_noise = true;
+  s.read_noise_e = 3;
+  s.seed = 42;
+  const Field f = uniform(s, 0.05f, 0.01f, 0);
+  const auto a = simulate_raw(s, f.s0, f.s1, f.s2, 9);
+  CHECK(a == simulate_raw(s, f.s0, f.s1, f.s2, 9));
+  // Pixel by pixel in reverse order (as threads in any order would) gives the same frame.
+  for (int r = s.height - 1; r >= 0; --r)
+    for (int c = s.width - 1; c >= 0; --c) {
+      const auto i = static_cast<std::size_t>(r * s.width + c);
+      REQUIRE(simulate_pixel(s, r, c, f.s0[i], f.s1[i], f.s2[i], 9) == a[i]);
+    }
+  CHECK(a != simulate_raw(s, f.s0, f.s1, f.s2, 10));
+  s.seed = 43;
+  CHECK(a != simulate_raw(s, f.s0, f.s1, f.s2, 9));
+}
+
+TEST_CASE("bad sensor parameters are named", "[sensor]") {
+  DofpSensor s = clean();
+  s.extinction_ratio = 1;
+  CHECK_THROWS_WITH(validate(s), "extinction_ratio must be > 1");
+  s = clean();
+  s.adc_bits = 20;
+  CHECK_THROWS_WITH(validate(s), "adc_bits must be in [1, 16]");
+  s = clean();
+  s.exposure_us = 0;
+  CHECK_THROWS_WITH(validate(s), "exposure_us must be > 0");
+  s = clean();
+  s.mosaic_deg = {0, 0, 90, 135};
+  const Field f = uniform(s, 1, 0, 0);
+  CHECK_THROWS_WITH(demosaic_bilinear(s, simulate_raw(s, f.s0, f.s1, f.s2, 0)),
+                    "mosaic_deg must hold 0, 45, 90 and 135");
+  std::vector<float> small(3);
+  CHECK_THROWS_AS(simulate_raw(clean(), small, small, small, 0), std::invalid_argument);
+}
