@@ -265,6 +265,25 @@ Stack read_stack(const std::string& path, const std::vector<std::string>& only_c
   return stack;
 }
 
+StackSummary peek_stack(const std::string& path) {
+  StackSummary s;
+  try {
+    Imf::MultiPartInputFile file(path.c_str());
+    const Imf::Header& h0 = file.header(0);
+    const Imath::Box2i dw = h0.dataWindow();
+    s.frames = file.parts();
+    s.width = dw.max.x - dw.min.x + 1;
+    s.height = dw.max.y - dw.min.y + 1;
+    s.bands = split_commas(need<Imf::StringAttribute>(h0, "skypol:bands", path, 0).value());
+    for (auto it = h0.channels().begin(); it != h0.channels().end(); ++it) s.channels.emplace_back(it.name());
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SceneError(FileLoc{path, 0, 0}, std::string("cannot read stack: ") + e.what());
+  }
+  return s;
+}
+
 std::string describe_stack(const std::string& path) {
   std::ostringstream os;
   try {

@@ -36,6 +36,15 @@ void write_stack(const std::string& path, const std::vector<Truth>& truths, cons
 // Rebuilds the camera from the header. Throws SceneError for a file that is not a skypol stack.
 Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels = {});
 
+// The channel names and bands of a stack, from its first header (no pixels read).
+struct StackSummary {
+  int frames = 0;
+  int width = 0, height = 0;
+  std::vector<std::string> bands;
+  std::vector<std::string> channels;
+};
+StackSummary peek_stack(const std::string& path);
+
 // Header-only view: one line of truth per part and the stack's shared facts, for `skypol info`.
 std::string describe_stack(const std::string& path);
 
