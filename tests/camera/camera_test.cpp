@@ -134,3 +134,45 @@ TEST_CASE("camera rejects a null lens or a non-rotation", "[camera]") {
   mirror(0, 0) = -1;
   CHECK_THROWS_AS(Camera(fisheye185(), mirror), std::invalid_argument);
 }
+
+TEST_CASE("meridional transport keeps the angle to the meridional plane: E·m = cos(a − φ), E·s = sin(a − φ)", "[camera]") {
+  // On the sensor, light at angle a (from +x) makes a − φ with the radial direction at azimuth φ;
+  // an ideal rotationally symmetric lens maps the radial direction to the meridional one m = ∂d/∂θ
+  // and the tangential one to the sagittal s, so the world E-vector must make the same angle.
+  Camera cam(fisheye185(), Eigen::Matrix3d::Identity());
+  for (double theta : {0.2, 1.0, 1.55, 1.6})
+    for (double phi : {0.5, 2.5, -1.0})
+      for (double a : {0.0, 50 * kDeg, -80 * kDeg}) {
+        auto ray = cam.ray(pixel_of(theta, phi));
+        REQUIRE(ray);
+        const Eigen::Vector3d m(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi),
+                                -std::sin(theta));
+        const Eigen::Vector3d s(-std::sin(phi), std::cos(phi), 0);
+        const Eigen::Vector3d e = std::cos(a) * ray->e0 + std::sin(a) * ray->d.cross(ray->e0);
+        CHECK(e.dot(m) == Approx(std::cos(a - phi)).margin(1e-12));
+        CHECK(e.dot(s) == Approx(std::sin(a - phi)).margin(1e-12));
+      }
+}
+
+TEST_CASE("projected transport at exactly 90° off-axis: E along the axis has no sensor angle", "[camera]") {
+  // θ = 90°, φ = 0: e0 = (0, 0, −1) in the camera frame projects to nothing; the documented rule
+  // returns the meridional angle (0).
+  Camera proj(fisheye185(), Eigen::Matrix3d::Identity(), Transport::projected);
+  auto ray = proj.ray(pixel_of(kPi / 2, 0));
+  REQUIRE(ray);
+  CHECK((ray->e0 - Eigen::Vector3d(0, 0, -1)).norm() < 1e-12);
+  CHECK(proj.sensor_angle(*ray, 0) == 0);
+  // Any other angle keeps a component along d × e0 = +y only: it projects to 90°.
+  CHECK(proj.sensor_angle(*ray, 0.3) == Approx(kPi / 2).margin(1e-12));
+  CHECK(std::isfinite(proj.sensor_angle(*ray, 1e-13)));
+  CHECK(proj.sensor_angle(*ray, kPi / 2) == Approx(kPi / 2).margin(1e-12));
+  // Beyond 90° (the 185° lens' edge) the angles stay finite and in (−90°, 90°].
+  auto edge = proj.ray(pixel_of(92.5 * kDeg, 0.7));
+  REQUIRE(edge);
+  for (double a = -1.5; a <= 1.5; a += 0.1) {
+    const double s = proj.sensor_angle(*edge, a);
+    CHECK(std::isfinite(s));
+    CHECK(s > -kPi / 2);
+    CHECK(s <= kPi / 2);
+  }
+}

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -74,6 +75,14 @@ void check_masked_outside(const Lens& lens) {
     CHECK_FALSE(lens.ray(c + (e - c) * 1.001));
   }
   CHECK_FALSE(lens.project(dir(lens.max_field_angle() + 1e-6, 0.4)));
+  // Garbage in: nullopt, never NaN.
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(std::nan(""), 100), Eigen::Vector2d(100, inf),
+                                   Eigen::Vector2d(-1e300, 1e300)})
+    CHECK_FALSE(lens.ray(p));
+  CHECK_FALSE(lens.project({0, 0, 0}));
+  CHECK_FALSE(lens.project({0, 0, -1}));
+  CHECK_FALSE(lens.project({std::nan(""), 0, 1}));
 }
 }  // namespace
 
