@@ -1,0 +1,171 @@
+// The Berry–Dennis–Lee sky: Rayleigh at zero separation, neutral points where BDL put them, each
+// of index ½ (the line field turns by half a turn around it), bounded DoLP, mirror symmetry.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "sky/berry.h"
+#include "sky/rayleigh.h"
+
+using namespace skypol::sky;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+Sun sun_at(double azimuth_deg, double elevation_deg) {
+  Sun s;
+  s.azimuth = azimuth_deg * kDeg;
+  s.elevation = elevation_deg * kDeg;
+  s.direction = enu_direction(s.azimuth, s.elevation);
+  return s;
+}
+
+Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& d) {
+  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  return (a - a.dot(d) * d).normalized();
+}
+
+Eigen::Vector3d random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+}
+
+// Total turn of the E-vector line field (in units of full turns) along a small circle of
+// angular radius r around the point c, walked counter-clockwise about c as seen from outside the
+// sphere. The angle is measured in a basis parallel-transported along with the walk (e0 = the
+// fixed vector t projected onto each tangent plane), so a regular field gives 0.
+double line_field_index(const SkyModel& m, const Sun& sun, const Eigen::Vector3d& c, double r) {
+  const Eigen::Vector3d t = any_perpendicular(c), u = c.cross(t);
+  const int n = 720;
+  double total = 0, prev = 0;
+  for (int k = 0; k <= n; ++k) {
+    const double a = 2 * kPi * k / n;
+    const Eigen::Vector3d d = (std::cos(r) * c + std::sin(r) * (std::cos(a) * t + std::sin(a) * u)).normalized();
+    // e0: the circle's centre direction projected (points from d towards c); e90 = d × e0.
+    const Eigen::Vector3d e0 = (c - c.dot(d) * d).normalized();
+    // The AoLP in that basis, plus the turn of the basis itself relative to a fixed frame (a).
+    const double angle = m.stokes(d, e0, sun).aolp() + a;
+    if (k > 0) total += std::remainder(angle - prev, kPi);
+    prev = angle;
+  }
+  return total / (2 * kPi);
+}
+}  // namespace
+
+TEST_CASE("zero separation reproduces the Rayleigh sky to 1e-9", "[berry]") {
+  std::mt19937_64 rng(21);
+  for (double pmax : {1.0, 0.63}) {
+    const BerrySky berry({pmax, 0.0});
+    const RayleighSky rayleigh({pmax});
+    for (int i = 0; i < 5000; ++i) {
+      Sun sun;
+      sun.direction = random_unit(rng);
+      sun.azimuth = azimuth_of(sun.direction);
+      const Eigen::Vector3d d = random_unit(rng);
+      Eigen::Vector3d e0 = random_unit(rng);
+      e0 = (e0 - e0.dot(d) * d).normalized();
+      const Stokes b = berry.stokes(d, e0, sun), r = rayleigh.stokes(d, e0, sun);
+      CHECK(std::abs(b.s0 - r.s0) < 1e-9);
+      CHECK(std::abs(b.s1 - r.s1) < 1e-9);
+      CHECK(std::abs(b.s2 - r.s2) < 1e-9);
+      CHECK(b.s3 == 0.0);
+    }
+  }
+}
+
+TEST_CASE("neutral points: on the solar vertical, unpolarized, Babinet above the sun", "[berry]") {
+  const BerrySky berry({0.8, 20.0});
+  for (double el : {-5.0, 0.0, 10.0, 40.0, 75.0, 90.0}) {
+    const Sun sun = sun_at(135, el);
+    const auto [babinet, brewster] = berry.neutral_points(sun);
+    INFO("sun elevation " << el);
+    CHECK(std::acos(std::clamp(babinet.dot(sun.direction), -1.0, 1.0)) / kDeg == Approx(20.0).margin(1e-9));
+    CHECK(std::acos(std::clamp(brewster.dot(sun.direction), -1.0, 1.0)) / kDeg == Approx(20.0).margin(1e-9));
+    // In the vertical plane through the sun: ⟂ to its horizontal normal (cos az, −sin az, 0).
+    const Eigen::Vector3d normal(std::cos(135 * kDeg), -std::sin(135 * kDeg), 0);
+    CHECK(std::abs(babinet.dot(normal)) < 1e-12);
+    CHECK(std::abs(brewster.dot(normal)) < 1e-12);
+    // Babinet 20° higher than the sun (past the zenith it comes down the other side)
+    if (el < 90) CHECK(elevation_of(babinet) / kDeg == Approx(90 - std::abs(70 - el)).margin(1e-9));
+    CHECK(elevation_of(brewster) / kDeg == Approx(el - 20).margin(1e-9));
+    for (const Eigen::Vector3d& p : {babinet, brewster, Eigen::Vector3d(-babinet), Eigen::Vector3d(-brewster)}) {
+      const Stokes s = berry.stokes(p, any_perpendicular(p), sun);
+      CHECK(std::abs(s.s1) < 1e-14);
+      CHECK(std::abs(s.s2) < 1e-14);
+      CHECK(s.s0 > 0);
+    }
+  }
+}
+
+TEST_CASE("each neutral point has index 1/2; the pair around the sun adds up to Rayleigh's 1", "[berry]") {
+  const Sun sun = sun_at(200, 30);
+  const BerrySky berry({1.0, 15.0});
+  const RayleighSky rayleigh;
+  const auto [babinet, brewster] = berry.neutral_points(sun);
+  const double r_small = 5 * kDeg, r_large = 30 * kDeg;
+  const double rayleigh_sun = line_field_index(rayleigh, sun, sun.direction, r_small);
+  CHECK(std::abs(rayleigh_sun) == Approx(1.0).margin(1e-9));
+  CHECK(line_field_index(berry, sun, babinet, r_small) == Approx(rayleigh_sun / 2).margin(1e-9));
+  CHECK(line_field_index(berry, sun, brewster, r_small) == Approx(rayleigh_sun / 2).margin(1e-9));
+  CHECK(line_field_index(berry, sun, -babinet, r_small) == Approx(rayleigh_sun / 2).margin(1e-9));  // 4th
+  CHECK(line_field_index(berry, sun, -brewster, r_small) == Approx(rayleigh_sun / 2).margin(1e-9));  // Arago
+  CHECK(line_field_index(berry, sun, sun.direction, r_small) == Approx(0.0).margin(1e-9));  // none inside
+  CHECK(line_field_index(berry, sun, sun.direction, r_large) == Approx(rayleigh_sun).margin(1e-9));
+}
+
+TEST_CASE("DoLP stays within [0, Pmax], is mirror-symmetric about the solar vertical, batch = scalar", "[berry]") {
+  std::mt19937_64 rng(5);
+  const BerrySky berry({0.7, 25.0});
+  const Sun sun = sun_at(60, 35);
+  const Eigen::Vector3d normal(std::cos(60 * kDeg), -std::sin(60 * kDeg), 0);  // of the solar vertical plane
+  std::vector<ViewRay> rays;
+  double max_seen = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Eigen::Vector3d d = random_unit(rng);
+    const double p = berry.stokes(d, any_perpendicular(d), sun).dolp();
+    CHECK(p >= 0.0);
+    CHECK(p <= 0.7 + 1e-12);
+    max_seen = std::max(max_seen, p);
+    const Eigen::Vector3d mirrored = d - 2 * d.dot(normal) * normal;
+    CHECK(berry.stokes(mirrored, any_perpendicular(mirrored), sun).dolp() == Approx(p).margin(1e-12));
+    rays.push_back({d.cast<float>(), any_perpendicular(d).cast<float>()});
+  }
+  CHECK(max_seen > 0.69);  // the maximum is still reached (on the great circle 90° from the sun)
+  std::vector<StokesF> out(rays.size());
+  berry.stokes(rays, sun, out);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Stokes ref = berry.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
+    CHECK(out[i].s0 == Approx(ref.s0).margin(2e-6));
+    CHECK(out[i].s1 == Approx(ref.s1).margin(2e-6));
+    CHECK(out[i].s2 == Approx(ref.s2).margin(2e-6));
+  }
+}
+
+TEST_CASE("berry hard cases: sun at the zenith and below the horizon are finite", "[berry][hard]") {
+  const BerrySky berry({0.8, 30.0});
+  for (double el : {90.0, -90.0, -3.0, 0.0}) {
+    const Sun sun = sun_at(10, el);
+    for (double az = 0; az < 360; az += 20) {
+      for (double vel = -90; vel <= 90; vel += 10) {
+        const Eigen::Vector3d d = enu_direction(az * kDeg, vel * kDeg);
+        const Stokes s = berry.stokes(d, any_perpendicular(d), sun);
+        CHECK(std::isfinite(s.s1));
+        CHECK(std::isfinite(s.s2));
+        CHECK(s.dolp() <= 0.8 + 1e-12);
+      }
+    }
+  }
+}
+
+TEST_CASE("berry parameters out of range are refused", "[berry][bad-input]") {
+  CHECK_THROWS_WITH(BerrySky({1.0, -1.0}), Catch::Contains("separation_deg"));
+  CHECK_THROWS_WITH(BerrySky({1.0, 60.0}), Catch::Contains("[0, 45]"));
+  CHECK_THROWS_WITH(BerrySky({2.0, 10.0}), Catch::Contains("max_dolp"));
+}
