@@ -2,13 +2,44 @@
 #include "camera/kannala_brandt.h"
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Eigenvalues>
+
 #include "camera/detail/radial_util.h"
 
 namespace skypol::camera {
+namespace {
+
+// The smallest θ in (0, θmax] where dθd/dθ = g(θ²) stops being positive, g(u) = 1 + 3k1·u +
+// 5k2·u² + 7k3·u³ + 9k4·u⁴. The dense scan finds sign changes; the quartic's real roots (companion
+// matrix eigenvalues) also catch a dip between two scan samples and a touching double root.
+std::optional<double> turning_point(const std::array<double, 4>& k, double theta_max,
+                                    const std::function<double(double)>& dtheta_d) {
+  std::optional<double> turn = detail::first_turning_point(dtheta_d, theta_max);
+  const std::array<double, 5> c = {1, 3 * k[0], 5 * k[1], 7 * k[2], 9 * k[3]};
+  int deg = 4;
+  while (deg > 0 && c[deg] == 0) --deg;
+  if (deg == 0) return turn;
+  Eigen::MatrixXd companion = Eigen::MatrixXd::Zero(deg, deg);
+  for (int i = 0; i < deg; ++i) companion(0, i) = -c[deg - 1 - i] / c[deg];
+  for (int i = 1; i < deg; ++i) companion(i, i - 1) = 1;
+  const Eigen::VectorXcd roots = companion.eigenvalues();
+  const double umax = theta_max * theta_max;
+  for (Eigen::Index i = 0; i < roots.size(); ++i) {
+    const double u = roots[i].real();
+    if (!(u > 0 && u <= umax * (1 + 1e-12))) continue;
+    const double t = std::sqrt(std::min(u, umax));
+    // A real root, or the near-real pair of a (near-)double root: g is ~0 there.
+    if (dtheta_d(t) <= 1e-9 && (!turn || t < *turn)) turn = t;
+  }
+  return turn;
+}
+
+}  // namespace
 
 KannalaBrandtLens::KannalaBrandtLens(Intrinsics intrinsics, std::array<double, 4> k,
                                      double max_field_angle, OnTurnover on_turnover)
@@ -20,7 +51,7 @@ KannalaBrandtLens::KannalaBrandtLens(Intrinsics intrinsics, std::array<double, 4
   if (!(std::isfinite(theta_max_) && theta_max_ > 0 && theta_max_ <= std::numbers::pi))
     throw std::invalid_argument("field of view must be in (0°, 360°]");
   const auto turn =
-      detail::first_turning_point([this](double t) { return distorted_derivative(t); }, theta_max_);
+      turning_point(coef_, theta_max_, [this](double t) { return distorted_derivative(t); });
   if (turn) {
     if (on_turnover == OnTurnover::reject || *turn <= 0)
       throw std::invalid_argument(

@@ -279,3 +279,14 @@ TEST_CASE("intrinsics from mm: 1.8 mm on 3.45 µm pixels is 521.739 px, centred"
   CHECK_THROWS_WITH(intrinsics_from_mm(0, 3.45, 10, 10), "focal_mm must be > 0");
   CHECK_THROWS_WITH(intrinsics_from_mm(1.8, -1, 10, 10), "pitch_um must be > 0");
 }
+
+TEST_CASE("Kannala-Brandt: a derivative that only touches zero between scan samples is still caught", "[lens]") {
+  // g(u) = dθd/dθ = 1 + 3k1·u + 5k2·u² = 5k2·(u − u0)² has a double root at u0 = (80°)²: the
+  // curve flattens to zero slope at 80° without changing sign.
+  const double u0 = std::pow(80 * kDeg, 2);
+  const double k2 = 1 / (5 * u0 * u0), k1 = -2 * u0 * 5 * k2 / 3;
+  KannalaBrandtLens probe(imx250(), {k1, k2, 0, 0}, 70 * kDeg);
+  CHECK(probe.distorted_derivative(80 * kDeg) == Approx(0).margin(1e-12));
+  CHECK_THROWS_WITH(KannalaBrandtLens(imx250(), {k1, k2, 0, 0}, 92.5 * kDeg),
+                    Catch::Contains("turns over at 80.0°"));
+}
