@@ -12,6 +12,7 @@
 #include "camera/double_sphere.h"
 #include "camera/intrinsics.h"
 #include "camera/kannala_brandt.h"
+#include "camera/magnification.h"
 #include "camera/ocam_lens.h"
 #include "camera/radial_lens.h"
 #include "camera/tabulated_lens.h"
@@ -289,4 +290,28 @@ TEST_CASE("Kannala-Brandt: a derivative that only touches zero between scan samp
   CHECK(probe.distorted_derivative(80 * kDeg) == Approx(0).margin(1e-12));
   CHECK_THROWS_WITH(KannalaBrandtLens(imx250(), {k1, k2, 0, 0}, 92.5 * kDeg),
                     Catch::Contains("turns over at 80.0°"));
+}
+
+TEST_CASE("magnifications match Sun et al. 2019 eqs. 23-28", "[lens]") {
+  const double f = kF;
+  for (double t : {0.0, 0.3, 1.0, kPi / 2, 1.6}) {
+    const double th = std::max(t, 1e-12);
+    auto eqd = magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kDeg), t, 0.7);
+    auto eqs = magnification(RadialLens(Mapping::equisolid, imx250(), 92.5 * kDeg), t, 0.7);
+    auto stg = magnification(RadialLens(Mapping::stereographic, imx250(), 92.5 * kDeg), t, 0.7);
+    REQUIRE(eqd);
+    REQUIRE(eqs);
+    REQUIRE(stg);
+    INFO("theta " << t);
+    CHECK(eqd->radial_px == Approx(f).epsilon(1e-6));                                 // eq. 23
+    CHECK(eqd->tangential_px == Approx(t == 0 ? f : f * th / std::sin(th)).epsilon(1e-6));  // eq. 24
+    CHECK(eqs->radial_px == Approx(f * std::cos(t / 2)).epsilon(1e-6));               // eq. 25
+    CHECK(eqs->tangential_px == Approx(f / std::cos(t / 2)).epsilon(1e-6));           // eq. 26
+    CHECK(stg->radial_px == Approx(f / std::pow(std::cos(t / 2), 2)).epsilon(1e-6));  // eq. 27
+    CHECK(stg->tangential_px == Approx(f / std::pow(std::cos(t / 2), 2)).epsilon(1e-6));  // eq. 28
+  }
+  // At 90°: β_t = 1.571f (equidistant), 1.414f (equisolid), β = 2f (stereographic), as the paper says.
+  CHECK(magnification(RadialLens(Mapping::equisolid, imx250(), 92.5 * kDeg), kPi / 2, 0)->tangential_px / f ==
+        Approx(std::sqrt(2.0)));
+  CHECK_FALSE(magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kDeg), 93 * kDeg, 0));
 }
