@@ -1,0 +1,89 @@
+// Model-based pole estimate from the great circles of equal DoLP (SkyPole SI eqs. 2–10).
+//
+// Why it works. For Rayleigh single scattering DoLP is a function of (s·P)² alone (s the sun, P
+// the viewing direction), so between frames i and j, DoLP_i(P) = DoLP_j(P) ⟺ (s_i·P)² = (s_j·P)²
+// ⟺ ((s_i − s_j)·P)((s_i + s_j)·P) = 0: two great circles, the *radial* one with normal s_i − s_j
+// and the *plane* one with normal s_i + s_j (orthogonal normals). The sun turns about the pole at
+// constant declination, s·p = sin δ, so every radial normal is ⟂ p: the pole is the common point
+// of all radial circles (SI "The NCP is the only point ...").
+//
+// Steps, per pair of frames (i, j):
+//  1. f = DoLP_i − DoLP_j (optionally disk-filtered); its sign changes between neighbouring valid
+//     pixels give sub-pixel zero crossings (linear interpolation), turned into unit directions
+//     through the lens model: points on the two circles, in 3-D, whatever the lens.
+//  2. The pair of planes through the origin is fitted as one degenerate quadric Pᵀ M P = 0
+//     (linear least squares, 6 unknowns), split into its two planes (eigenvectors of M), then
+//     each plane is refined by robust (Tukey) total least squares on the points nearest to it.
+//  3. Radial or plane circle, and the order of the two suns: the four hypotheses
+//     s_i,j = cos h·A ± sin h·B with (A, B) ∈ {(n1, ±n2), (n2, ±n1)} are fitted to the two frames'
+//     DoLP with the Rayleigh law Pmax·(1 − c²)/(1 + c²) (Pmax by least squares, h on a grid);
+//     the best one names the radial normal B, oriented as s_i − s_j with A towards the sun
+//     (above the horizon).
+//  4. The pole: the unit p that minimises Σ w_k (n_k·p − κ g_k)² over the radial normals n_k
+//     (robust, Tukey-reweighted). κ models the sun's declination drift (≈ 0.4°/day near the
+//     equinoxes, which tilts every radial circle by dδ/dω ≈ 0.06° off the pole): s_i·p = sin δ_i
+//     gives n_k·p = (sin δ_i − sin δ_j)/|s_i − s_j| ≈ κ·g_k with g_k = (Δω/2)/sin(Δω/2), Δω the
+//     pair's hour-angle step from the frame times (or from the fitted sun separation). With
+//     DriftModel::none κ = 0 (p = smallest eigenvector of Σ w n nᵀ).
+//  5. North: the sky turns about −NCP, and s_i × s_j ∝ n_r × n_p, so (n_r × n_p)·NCP < 0 (a vote
+//     over pairs); the hint overrides it.
+// The pole need not be in the field of view: the circles are fitted where they are seen.
+// residual_deg: weighted RMS angular distance of the pole from the radial circles (after the
+// drift term); confidence: fraction of the pairs kept as inliers.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "render/frame.h"
+#include "skypole/estimate.h"
+#include "skypole/sky_images.h"
+
+namespace skypol::skypole {
+
+enum class DriftModel { none, fit, automatic };
+DriftModel parse_drift_model(std::string_view name);  // "none" | "fit" | "automatic"
+std::string_view drift_model_name(DriftModel m);
+
+struct GreatCircleParams {
+  InputOptions input;
+  // Disk filter before the zero crossings; nullopt → 0 (none) for a stack without noise... the
+  // estimator cannot know, so the default is default_filter_radius_px (it costs < 0.01° noise-free).
+  std::optional<double> filter_radius_px;
+  PairMode pairs = PairMode::all;
+  int interval = 1;
+  int min_points = 30;            // zero crossings a circle needs to be used
+  DriftModel drift = DriftModel::automatic;
+  // automatic: fit the drift when ≥ 4 pairs are kept and their radial normals span ≥ this arc
+  // about the pole (a short window cannot separate the drift from the pole).
+  double auto_drift_min_arc_deg = 60;
+  int model_samples = 3000;       // pixels used to tell the radial circle from the plane one
+  bool keep_circles = false;      // fill GreatCircleResult::circles
+};
+
+// One pair's fitted circles (for inspection and plots).
+struct CirclePair {
+  int i = 0, j = 0;
+  Eigen::Vector3d radial_normal = Eigen::Vector3d::Zero();  // ∝ s_i − s_j, camera frame
+  Eigen::Vector3d plane_normal = Eigen::Vector3d::Zero();   // ∝ s_i + s_j, towards the sun
+  int radial_points = 0, plane_points = 0;
+  double radial_rms_deg = 0;      // RMS distance of the radial circle's inlier points
+  double sun_separation_deg = 0;  // 2h of the best hypothesis
+  double hypothesis_ratio = 0;    // best SSE / second-best SSE of step 3 (small = clear)
+  bool used = false;              // kept for the pole (enough points, inlier of the final fit)
+};
+
+struct GreatCircleResult {
+  PoleEstimate estimate;
+  std::vector<CirclePair> circles;  // when keep_circles
+  double drift = 0;                 // κ (≈ −dδ/dω), 0 when not fitted
+  bool drift_fitted = false;
+};
+
+// Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
+GreatCircleResult estimate_great_circle(const render::Stack& stack,
+                                        const GreatCircleParams& params = {});
+
+}  // namespace skypol::skypole
