@@ -1,0 +1,143 @@
+// Radiance models. Preetham's luminance coefficients (Appendix A.2 of Preetham et al. 1999),
+// each linear in the turbidity T:
+//   A = 0.1787 T − 1.4630   B = −0.3554 T + 0.4275   C = −0.0227 T + 5.3251
+//   D = 0.1206 T − 2.5771   E = −0.0670 T + 0.3703
+// Turbidity range: the zenith factor 1 + A e^B turns negative just below T ≈ 1.65 and B turns
+// positive (a horizon term that diverges) below T ≈ 1.2, so the fit is unusable for very clear
+// air; above T ≈ 10 the sky is haze. We accept [2, 10].
+#include "sky/intensity.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <stdexcept>
+
+#include "sky/ray_block.h"
+
+namespace skypol::sky {
+namespace {
+
+struct Perez {
+  double a, b, c, d, e;
+};
+
+Perez preetham_luminance(double t) {
+  return {0.1787 * t - 1.4630, -0.3554 * t + 0.4275, -0.0227 * t + 5.3251, 0.1206 * t - 2.5771,
+          -0.0670 * t + 0.3703};
+}
+
+// Perez F for the cosine of the view zenith angle (clamped to the horizon) and the scattering angle.
+double perez(const Perez& p, double cos_theta, double gamma) {
+  const double ct = std::max(cos_theta, 1e-4);  // e^{B/cos θ} → 0 at the horizon since B < 0
+  const double cg = std::cos(gamma);
+  return (1.0 + p.a * std::exp(p.b / ct)) * (1.0 + p.c * std::exp(p.d * gamma) + p.e * cg * cg);
+}
+
+double sun_zenith_angle(const Sun& sun) { return std::acos(std::clamp(sun.direction.z(), -1.0, 1.0)); }
+
+const double kCosSunRadius = std::cos(kSunAngularRadiusDeg * std::numbers::pi / 180.0);
+
+}  // namespace
+
+IntensityModel intensity_model_from_name(const std::string& name) {
+  if (name == "uniform") return IntensityModel::uniform;
+  if (name == "rayleigh") return IntensityModel::rayleigh;
+  if (name == "preetham") return IntensityModel::preetham;
+  throw std::invalid_argument("intensity model \"" + name + "\" is unknown (expected uniform, rayleigh or preetham)");
+}
+
+std::string to_string(IntensityModel model) {
+  switch (model) {
+    case IntensityModel::uniform: return "uniform";
+    case IntensityModel::rayleigh: return "rayleigh";
+    case IntensityModel::preetham: return "preetham";
+  }
+  return "unknown";
+}
+
+void validate(const IntensityParams& p) {
+  if (p.model == IntensityModel::preetham && !(p.turbidity >= 2.0 && p.turbidity <= 10.0)) {
+    throw std::invalid_argument("turbidity " + std::to_string(p.turbidity) +
+                                " is outside [2, 10], the range where Preetham's luminance fit is usable");
+  }
+  if (p.sun_disc && !(std::isfinite(p.sun_disc_radiance) && p.sun_disc_radiance >= 0.0)) {
+    throw std::invalid_argument("sun_disc_radiance " + std::to_string(p.sun_disc_radiance) + " must be ≥ 0");
+  }
+}
+
+double sky_radiance(const IntensityParams& params, const Eigen::Vector3d& d, const Sun& sun) {
+  const double c = std::clamp(d.dot(sun.direction), -1.0, 1.0);
+  double radiance = 1.0;
+  switch (params.model) {
+    case IntensityModel::uniform: break;
+    case IntensityModel::rayleigh: radiance = 1.0 + c * c; break;
+    case IntensityModel::preetham: {
+      const Perez p = preetham_luminance(params.turbidity);
+      radiance = perez(p, d.z(), std::acos(c)) / perez(p, 1.0, sun_zenith_angle(sun));
+      break;
+    }
+  }
+  if (params.sun_disc && c >= kCosSunRadius) radiance += params.sun_disc_radiance;
+  return radiance;
+}
+
+IntensitySky::IntensitySky(std::unique_ptr<SkyModel> inner, IntensityParams params)
+    : inner_(std::move(inner)), params_(params) {
+  if (!inner_) throw std::invalid_argument("IntensitySky needs an inner model");
+  validate(params_);
+}
+
+Stokes IntensitySky::stokes(const Eigen::Vector3d& d, const Eigen::Vector3d& e0, const Sun& sun) const {
+  const Stokes s = inner_->stokes(d, e0, sun);
+  IntensityParams no_disc = params_;
+  no_disc.sun_disc = false;
+  const double radiance = sky_radiance(no_disc, d, sun);
+  const double k = s.s0 > 0 ? radiance / s.s0 : 0.0;
+  Stokes r{radiance, k * s.s1, k * s.s2, k * s.s3};
+  if (params_.sun_disc && d.dot(sun.direction) >= kCosSunRadius) r.s0 += params_.sun_disc_radiance;
+  return r;
+}
+
+void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<StokesF> out) const {
+  assert(out.size() == rays.size());
+  if (out.size() < rays.size()) rays = rays.first(out.size());
+  inner_->stokes(rays, sun, out.first(rays.size()));
+  const float sx = static_cast<float>(sun.direction.x());
+  const float sy = static_cast<float>(sun.direction.y());
+  const float sz = static_cast<float>(sun.direction.z());
+  const Perez pd = preetham_luminance(params_.turbidity);
+  const float pa = static_cast<float>(pd.a), pb = static_cast<float>(pd.b), pc = static_cast<float>(pd.c),
+              pdd = static_cast<float>(pd.d), pe = static_cast<float>(pd.e);
+  const float norm = static_cast<float>(1.0 / perez(pd, 1.0, sun_zenith_angle(sun)));
+  const float cos_disc = static_cast<float>(kCosSunRadius);
+  const float disc = params_.sun_disc ? static_cast<float>(params_.sun_disc_radiance) : 0.0f;
+  const IntensityModel model = params_.model;
+  detail::for_each_ray_block(rays, [&](const detail::RayBlock& b) {
+    float radiance[detail::RayBlock::kSize];
+    for (std::size_t j = 0; j < b.count; ++j) {
+      const float c = std::clamp(b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz, -1.0f, 1.0f);
+      float r = 1.0f;
+      if (model == IntensityModel::rayleigh) {
+        r = 1.0f + c * c;
+      } else if (model == IntensityModel::preetham) {
+        const float ct = std::max(b.dz[j], 1e-4f);
+        const float gamma = std::acos(c);
+        r = norm * (1.0f + pa * std::exp(pb / ct)) * (1.0f + pc * std::exp(pdd * gamma) + pe * c * c);
+      }
+      radiance[j] = r;
+    }
+    StokesF* __restrict o = out.data() + b.first;
+    for (std::size_t j = 0; j < b.count; ++j) {
+      const float k = o[j].s0 > 0.0f ? radiance[j] / o[j].s0 : 0.0f;
+      const float c = b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz;
+      o[j].s0 = radiance[j] + (c >= cos_disc ? disc : 0.0f);
+      o[j].s1 *= k;
+      o[j].s2 *= k;
+      o[j].s3 *= k;
+    }
+  });
+}
+
+}  // namespace skypol::sky

@@ -1,0 +1,153 @@
+// Radiance models: the pattern is kept, the radiance replaced; Preetham's luminance against
+// values worked out by hand (Python, from the coefficient table of Preetham et al. 1999, App. A.2).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "sky/berry.h"
+#include "sky/intensity.h"
+#include "sky/rayleigh.h"
+
+using namespace skypol::sky;
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+Sun sun_at(double azimuth_deg, double elevation_deg) {
+  Sun s;
+  s.azimuth = azimuth_deg * kDeg;
+  s.elevation = elevation_deg * kDeg;
+  s.direction = enu_direction(s.azimuth, s.elevation);
+  return s;
+}
+
+Eigen::Vector3d perpendicular(const Eigen::Vector3d& d) {
+  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  return (a - a.dot(d) * d).normalized();
+}
+
+IntensityParams preetham(double t) {
+  IntensityParams p;
+  p.model = IntensityModel::preetham;
+  p.turbidity = t;
+  return p;
+}
+}  // namespace
+
+TEST_CASE("Preetham luminance against hand-computed values", "[intensity]") {
+  // T = 3, sun at the zenith, view 60° from the zenith: F(60°, 60°)/F(0°, 0°) = 0.35235116263.
+  CHECK(sky_radiance(preetham(3), enu_direction(0.3, 30 * kDeg), sun_at(0, 90)) ==
+        Approx(0.3523511626346728).epsilon(1e-9));
+  // Sun at 30° elevation in the south, view east at 45°: T = 3 → 1.08384188664, T = 8 → 0.89794770792.
+  const Eigen::Vector3d view = enu_direction(90 * kDeg, 45 * kDeg);
+  CHECK(sky_radiance(preetham(3), view, sun_at(180, 30)) == Approx(1.0838418866434085).epsilon(1e-9));
+  CHECK(sky_radiance(preetham(8), view, sun_at(180, 30)) == Approx(0.8979477079161806).epsilon(1e-9));
+}
+
+TEST_CASE("Preetham: 1 at the zenith, symmetric about the solar vertical, horizon value below it", "[intensity]") {
+  for (double t : {2.0, 3.0, 6.0, 10.0}) {
+    for (double el : {-5.0, 5.0, 30.0, 60.0, 89.0}) {
+      const Sun sun = sun_at(130, el);
+      CHECK(sky_radiance(preetham(t), Eigen::Vector3d::UnitZ(), sun) == Approx(1.0).epsilon(1e-14));
+      for (double off = 10; off < 180; off += 25) {
+        for (double vel = 0; vel < 90; vel += 20) {
+          const double a = sky_radiance(preetham(t), enu_direction((130 + off) * kDeg, vel * kDeg), sun);
+          const double b = sky_radiance(preetham(t), enu_direction((130 - off) * kDeg, vel * kDeg), sun);
+          CHECK(a == Approx(b).epsilon(1e-12));
+          CHECK(a > 0);
+        }
+      }
+      // Below the horizon: the horizon's value in the same azimuth, finite.
+      const double horizon = sky_radiance(preetham(t), enu_direction(40 * kDeg, 0), sun);
+      const double below = sky_radiance(preetham(t), enu_direction(40 * kDeg, -30 * kDeg), sun);
+      CHECK(std::isfinite(below));
+      CHECK(below > 0);
+      CHECK(std::isfinite(horizon));
+    }
+  }
+}
+
+TEST_CASE("a different radiance keeps DoLP and AoLP of the pattern", "[intensity]") {
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> n;
+  const Sun sun = sun_at(250, 20);
+  for (IntensityModel m : {IntensityModel::uniform, IntensityModel::rayleigh, IntensityModel::preetham}) {
+    IntensityParams p = preetham(4);
+    p.model = m;
+    const IntensitySky sky(std::make_unique<BerrySky>(BerryParams{0.75, 18.0}), p);
+    const BerrySky bare({0.75, 18.0});
+    CHECK(sky.name() == "berry");
+    for (int i = 0; i < 500; ++i) {
+      const Eigen::Vector3d d = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+      const Stokes a = sky.stokes(d, perpendicular(d), sun), b = bare.stokes(d, perpendicular(d), sun);
+      CHECK(a.s0 == Approx(sky_radiance(p, d, sun)).epsilon(1e-12));
+      CHECK(a.dolp() == Approx(b.dolp()).margin(1e-12));
+      if (b.dolp() > 1e-6) CHECK(std::remainder(a.aolp() - b.aolp(), kPi) == Approx(0.0).margin(1e-12));
+      if (m == IntensityModel::uniform) CHECK(a.s0 == 1.0);
+      if (m == IntensityModel::rayleigh) {
+        CHECK(a.s1 == Approx(b.s1).margin(1e-12));  // the pattern's own radiance: nothing changes
+        CHECK(a.s2 == Approx(b.s2).margin(1e-12));
+      }
+    }
+  }
+}
+
+TEST_CASE("the sun's disc: unpolarized radiance within 0.2666 degrees of the sun", "[intensity]") {
+  IntensityParams p;
+  p.sun_disc = true;
+  p.sun_disc_radiance = 1e5;
+  const IntensitySky sky(std::make_unique<RayleighSky>(RayleighParams{0.8}), p);
+  const Sun sun = sun_at(100, 40);
+  const Stokes centre = sky.stokes(sun.direction, perpendicular(sun.direction), sun);
+  CHECK(centre.s0 == Approx(1e5 + 2.0));
+  CHECK(centre.dolp() < 1e-12);
+  const Stokes inside = sky.stokes(enu_direction(100 * kDeg, 40.26 * kDeg), perpendicular(sun.direction), sun);
+  CHECK(inside.s0 > 1e5);
+  CHECK(inside.dolp() < 1e-8);  // polarized light of the sky is drowned by the disc
+  const Stokes outside = sky.stokes(enu_direction(100 * kDeg, 40.27 * kDeg), perpendicular(sun.direction), sun);
+  CHECK(outside.s0 < 3.0);
+}
+
+TEST_CASE("intensity batch path equals the scalar path", "[intensity][batch]") {
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> n;
+  for (IntensityModel m : {IntensityModel::uniform, IntensityModel::rayleigh, IntensityModel::preetham}) {
+    IntensityParams p = preetham(2.5);
+    p.model = m;
+    p.sun_disc = true;
+    p.sun_disc_radiance = 500;
+    const IntensitySky sky(std::make_unique<RayleighSky>(RayleighParams{0.7}), p);
+    const Sun sun = sun_at(33, 12);
+    std::vector<ViewRay> rays;
+    for (int i = 0; i < 700; ++i) {
+      const Eigen::Vector3d d = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+      rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
+    }
+    rays.push_back({sun.direction.cast<float>(), perpendicular(sun.direction).cast<float>()});  // in the disc
+    std::vector<StokesF> out(rays.size());
+    sky.stokes(rays, sun, out);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const Stokes ref = sky.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
+      CHECK(out[i].s0 == Approx(ref.s0).epsilon(2e-5));
+      CHECK(out[i].s1 == Approx(ref.s1).margin(2e-5 * ref.s0));
+      CHECK(out[i].s2 == Approx(ref.s2).margin(2e-5 * ref.s0));
+    }
+    CHECK(out.back().s0 > 500);
+  }
+}
+
+TEST_CASE("bad intensity parameters are refused with the field named", "[intensity][bad-input]") {
+  auto inner = [] { return std::make_unique<RayleighSky>(); };
+  CHECK_THROWS_WITH(IntensitySky(inner(), preetham(-1)), Catch::Contains("turbidity"));
+  CHECK_THROWS_WITH(IntensitySky(inner(), preetham(1.5)), Catch::Contains("[2, 10]"));
+  CHECK_THROWS_AS(IntensitySky(inner(), preetham(11)), std::invalid_argument);
+  CHECK_THROWS_AS(IntensitySky(inner(), preetham(std::nan(""))), std::invalid_argument);
+  CHECK_THROWS_WITH(intensity_model_from_name("perez"), Catch::Contains("uniform, rayleigh or preetham"));
+  CHECK(intensity_model_from_name("preetham") == IntensityModel::preetham);
+  CHECK(to_string(IntensityModel::uniform) == "uniform");
+}
