@@ -1,0 +1,108 @@
+// Procedural clouds. The threshold that turns noise into cloud is calibrated once, at
+// construction, on 4096 directions spread evenly over the sphere (a Fibonacci lattice): the
+// (1 − coverage) quantile of the noise there. So `coverage` means what it says whatever the
+// noise's distribution, and the field depends only on the seed and the parameters.
+#include "sky/clouds.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sky/noise.h"
+
+namespace skypol::sky {
+namespace {
+
+constexpr int kOctaves = 4;
+constexpr int kCalibrationPoints = 4096;
+
+float smoothstep01(float t) {
+  t = std::clamp(t, 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+}  // namespace
+
+void validate(const CloudParams& p) {
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw std::invalid_argument(message);
+  };
+  require(p.coverage >= 0.0 && p.coverage <= 1.0, "clouds.coverage " + std::to_string(p.coverage) + " must be in [0, 1]");
+  require(p.scale_deg >= 1.0 && p.scale_deg <= 90.0,
+          "clouds.scale_deg " + std::to_string(p.scale_deg) + " must be in [1, 90] degrees");
+  require(p.softness > 0.0 && p.softness <= 1.0, "clouds.softness " + std::to_string(p.softness) + " must be in (0, 1]");
+  require(p.brightness >= 1.0 && std::isfinite(p.brightness),
+          "clouds.brightness " + std::to_string(p.brightness) + " must be ≥ 1 (clouds are brighter than the sky behind)");
+}
+
+CloudySky::CloudySky(std::unique_ptr<SkyModel> clear, CloudParams params)
+    : clear_(std::move(clear)), params_(params) {
+  if (!clear_) throw std::invalid_argument("CloudySky needs a clear-sky model");
+  validate(params_);
+  // One lattice cell ≈ one cloud: a cell spans 1/frequency in direction space ≈ that many radians.
+  frequency_ = static_cast<float>(1.0 / (params_.scale_deg * std::numbers::pi / 180.0));
+  if (params_.coverage <= 0.0) {
+    threshold_ = std::numeric_limits<float>::infinity();
+  } else if (params_.coverage >= 1.0) {
+    threshold_ = -std::numeric_limits<float>::infinity();
+  } else {
+    std::vector<float> values(kCalibrationPoints);
+    const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < kCalibrationPoints; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / kCalibrationPoints;
+      const double r = std::sqrt(1.0 - z * z);
+      const double phi = golden * i;
+      values[static_cast<std::size_t>(i)] = fractal_noise_at(static_cast<float>(r * std::cos(phi)),
+                                                             static_cast<float>(r * std::sin(phi)),
+                                                             static_cast<float>(z));
+    }
+    const auto k = static_cast<std::size_t>((1.0 - params_.coverage) * (kCalibrationPoints - 1));
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+    threshold_ = values[k];
+  }
+}
+
+float CloudySky::fractal_noise_at(float x, float y, float z) const {
+  return detail::fractal_noise(x * frequency_, y * frequency_, z * frequency_, params_.seed, kOctaves);
+}
+
+float CloudySky::opacity_f(float x, float y, float z) const {
+  if (std::isinf(threshold_)) return threshold_ > 0 ? 0.0f : 1.0f;
+  const float v = fractal_noise_at(x, y, z);
+  return smoothstep01((v - threshold_) / static_cast<float>(params_.softness) + 0.5f);
+}
+
+double CloudySky::opacity(const Eigen::Vector3d& d) const {
+  return opacity_f(static_cast<float>(d.x()), static_cast<float>(d.y()), static_cast<float>(d.z()));
+}
+
+Stokes CloudySky::stokes(const Eigen::Vector3d& d, const Eigen::Vector3d& e0, const Sun& sun) const {
+  const Stokes s = clear_->stokes(d, e0, sun);
+  const double a = opacity(d);
+  const double keep = 1.0 - a;
+  return {s.s0 * (keep + a * params_.brightness), keep * s.s1, keep * s.s2, keep * s.s3};
+}
+
+void CloudySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<StokesF> out) const {
+  assert(out.size() == rays.size());
+  if (out.size() < rays.size()) rays = rays.first(out.size());
+  clear_->stokes(rays, sun, out.first(rays.size()));
+  const float brightness = static_cast<float>(params_.brightness);
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const float a = opacity_f(rays[i].d.x(), rays[i].d.y(), rays[i].d.z());
+    const float keep = 1.0f - a;
+    StokesF& o = out[i];
+    o.s0 *= keep + a * brightness;
+    o.s1 *= keep;
+    o.s2 *= keep;
+    o.s3 *= keep;
+  }
+}
+
+}  // namespace skypol::sky
