@@ -80,4 +80,11 @@ std::shared_ptr<const Lens> DoubleSphereLens::rescaled(double s) const {
                                             theta_max_);
 }
 
+std::vector<std::pair<std::string, double>> DoubleSphereLens::parameters() const {
+  auto p = Lens::parameters();
+  p.emplace_back("xi", xi_);
+  p.emplace_back("alpha", alpha_);
+  return p;
+}
+
 }  // namespace skypol::camera

@@ -22,6 +22,7 @@ class DoubleSphereLens final : public Lens {
   std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const override;
   double max_field_angle() const override { return theta_max_; }
   std::shared_ptr<const Lens> rescaled(double s) const override;
+  std::vector<std::pair<std::string, double>> parameters() const override;
 
   double xi() const { return xi_; }
   double alpha() const { return alpha_; }

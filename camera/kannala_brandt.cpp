@@ -98,4 +98,14 @@ std::shared_ptr<const Lens> KannalaBrandtLens::rescaled(double s) const {
                                              OnTurnover::clamp_fov);
 }
 
+std::vector<std::pair<std::string, double>> KannalaBrandtLens::parameters() const {
+  auto p = Lens::parameters();
+  for (std::size_t i = 0; i < coef_.size(); ++i) {
+    std::string key = "k";
+    key += std::to_string(i + 1);
+    p.emplace_back(key, coef_[i]);
+  }
+  return p;
+}
+
 }  // namespace skypol::camera

@@ -31,6 +31,7 @@ class KannalaBrandtLens final : public Lens {
   std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const override;
   double max_field_angle() const override { return theta_max_; }
   std::shared_ptr<const Lens> rescaled(double s) const override;
+  std::vector<std::pair<std::string, double>> parameters() const override;
 
   const std::array<double, 4>& coefficients() const { return coef_; }
   // θd(θ) and its derivative, focal-length units.

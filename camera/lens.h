@@ -8,6 +8,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -41,6 +43,10 @@ class Lens {
   // sensor of floor(s·width) × floor(s·height) pixels: s = 1/b for b×b binning, s < 1 for a
   // downscale. Every model in camera/ implements it; the base version throws std::logic_error.
   virtual std::shared_ptr<const Lens> rescaled(double s) const;
+
+  // The model's parameters by name, in its documented order (for file headers and logs; angles
+  // in degrees). Base version: fx, fy, cx, cy, width, height, fov_deg.
+  virtual std::vector<std::pair<std::string, double>> parameters() const;
 };
 
 }  // namespace skypol::camera

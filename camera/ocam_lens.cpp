@@ -200,4 +200,20 @@ std::shared_ptr<const Lens> OCamLens::rescaled(double s) const {
   return std::make_shared<OCamLens>(m, theta_max_);
 }
 
+std::vector<std::pair<std::string, double>> OCamLens::parameters() const {
+  std::vector<std::pair<std::string, double>> p;
+  auto key = [](char prefix, std::size_t i) {
+    std::string k(1, prefix);
+    k += std::to_string(i);
+    return k;
+  };
+  for (std::size_t i = 0; i < m_.pol.size(); ++i) p.emplace_back(key('a', i), m_.pol[i]);
+  for (std::size_t i = 0; i < m_.invpol.size(); ++i) p.emplace_back(key('p', i), m_.invpol[i]);
+  for (auto [name, v] : {std::pair<const char*, double>{"xc", m_.xc}, {"yc", m_.yc}, {"c", m_.c},
+                         {"d", m_.d}, {"e", m_.e}, {"height", m_.height}, {"width", m_.width},
+                         {"fov_deg", 2 * theta_max_ * 180 / std::numbers::pi}})
+    p.emplace_back(name, v);
+  return p;
+}
+
 }  // namespace skypol::camera

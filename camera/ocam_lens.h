@@ -44,6 +44,7 @@ class OCamLens final : public Lens {
   std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const override;
   double max_field_angle() const override { return theta_max_; }
   std::shared_ptr<const Lens> rescaled(double s) const override;
+  std::vector<std::pair<std::string, double>> parameters() const override;
 
   const OCamModel& model() const { return m_; }
   // Angle off the axis of the ray at pre-affine radius ρ (pixels), and its derivative.

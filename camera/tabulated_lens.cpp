@@ -140,4 +140,16 @@ std::shared_ptr<const Lens> TabulatedLens::rescaled(double s) const {
   return std::make_shared<TabulatedLens>(detail::rescale_intrinsics(k_, s), t_);
 }
 
+std::vector<std::pair<std::string, double>> TabulatedLens::parameters() const {
+  auto p = Lens::parameters();
+  for (std::size_t i = 0; i < t_.theta.size(); ++i) {
+    std::string angle_key = "theta_deg_", height_key = "height_";
+    angle_key += std::to_string(i);
+    height_key += std::to_string(i);
+    p.emplace_back(angle_key, t_.theta[i] * 180 / std::numbers::pi);
+    p.emplace_back(height_key, t_.height[i]);
+  }
+  return p;
+}
+
 }  // namespace skypol::camera

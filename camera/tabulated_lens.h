@@ -33,6 +33,7 @@ class TabulatedLens final : public Lens {
   std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const override;
   double max_field_angle() const override { return t_.theta.back(); }
   std::shared_ptr<const Lens> rescaled(double s) const override;
+  std::vector<std::pair<std::string, double>> parameters() const override;
 
   // Interpolated height at θ (table units) and its inverse.
   double height(double theta) const;

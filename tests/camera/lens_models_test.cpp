@@ -315,3 +315,22 @@ TEST_CASE("magnifications match Sun et al. 2019 eqs. 23-28", "[lens]") {
         Approx(std::sqrt(2.0)));
   CHECK_FALSE(magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kDeg), 93 * kDeg, 0));
 }
+
+TEST_CASE("parameters() lists each model's values in its documented order", "[lens]") {
+  KannalaBrandtLens kb(imx250(), {0.1, 0.02, 0.003, 0.0004}, 92.5 * kDeg);
+  const auto p = kb.parameters();
+  REQUIRE(p.size() == 11);
+  CHECK(p[0] == std::pair<std::string, double>{"fx", kF});
+  CHECK(p[2].first == "cx");
+  CHECK(p[6].first == "fov_deg");
+  CHECK(p[6].second == Approx(185));
+  CHECK(p[7] == std::pair<std::string, double>{"k1", 0.1});
+  CHECK(p[10] == std::pair<std::string, double>{"k4", 0.0004});
+  const auto d = DoubleSphereLens(imx250(), -0.2, 0.6, 92.5 * kDeg).parameters();
+  CHECK(d[7] == std::pair<std::string, double>{"xi", -0.2});
+  CHECK(d[8] == std::pair<std::string, double>{"alpha", 0.6});
+  const auto o = OCamLens(load_ocamcalib(kOcamFile), 92.5 * kDeg).parameters();
+  CHECK(o[0] == std::pair<std::string, double>{"a0", -260.87});
+  CHECK(o[5] == std::pair<std::string, double>{"p0", 417.495108});
+  CHECK(o[15] == std::pair<std::string, double>{"xc", 511.3});
+}
