@@ -8,6 +8,9 @@
 #include <string>
 
 #include <Eigen/Core>
+// Users of ViewRay build bases with cross(), which Eigen declares in Core but defines in Geometry:
+// without this include a missing definition shows up only at link time.
+#include <Eigen/Geometry>
 
 #include "sky/stokes.h"
 #include "sky/sun.h"

@@ -1,0 +1,146 @@
+// make_sky: builds only what the spec asks for, and refuses bad fields by name.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include "sky/berry.h"
+#include "sky/clouds.h"
+#include "sky/depolarization.h"
+#include "sky/intensity.h"
+#include "sky/rayleigh.h"
+#include "sky/sky_spec.h"
+
+using namespace skypol::sky;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Sun sun_at(double azimuth_deg, double elevation_deg) {
+  Sun s;
+  s.azimuth = azimuth_deg * kDeg;
+  s.elevation = elevation_deg * kDeg;
+  s.direction = enu_direction(s.azimuth, s.elevation);
+  return s;
+}
+
+// The message of the std::invalid_argument that make_sky throws for a spec ("" if none).
+std::string error_of(const SkySpec& spec) {
+  try {
+    make_sky(spec);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("the default spec is a bare Rayleigh sky: nothing else is built", "[sky_spec]") {
+  const std::unique_ptr<SkyModel> sky = make_sky({});
+  REQUIRE(dynamic_cast<const RayleighSky*>(sky.get()) != nullptr);
+  CHECK(sky->name() == "rayleigh");
+  SkySpec s;
+  s.clouds.seed = 7;  // a seed without coverage is still a clear sky
+  CHECK(dynamic_cast<const RayleighSky*>(make_sky(s).get()) != nullptr);
+}
+
+TEST_CASE("wrappers appear only for what is asked, clouds outermost", "[sky_spec]") {
+  SkySpec s;
+  s.model = "berry";
+  CHECK(dynamic_cast<const BerrySky*>(make_sky(s).get()) != nullptr);
+  s.intensity = "preetham";
+  {
+    const auto sky = make_sky(s);
+    const auto* lit = dynamic_cast<const IntensitySky*>(sky.get());
+    REQUIRE(lit != nullptr);
+    CHECK(dynamic_cast<const BerrySky*>(&lit->inner()) != nullptr);
+    CHECK(sky->name() == "berry");
+  }
+  s.intensity = "rayleigh";
+  s.sun_disc = true;
+  CHECK(dynamic_cast<const IntensitySky*>(make_sky(s).get()) != nullptr);
+  s.clouds.coverage = 0.3;
+  {
+    const auto sky = make_sky(s);
+    const auto* cloudy = dynamic_cast<const CloudySky*>(sky.get());
+    REQUIRE(cloudy != nullptr);
+    CHECK(dynamic_cast<const IntensitySky*>(&cloudy->clear()) != nullptr);
+  }
+}
+
+TEST_CASE("berry with zero separation from the factory equals rayleigh", "[sky_spec]") {
+  SkySpec b;
+  b.model = "berry";
+  b.separation_deg = 0;
+  b.max_dolp = 0.8;
+  SkySpec r;
+  r.max_dolp = 0.8;
+  const auto berry = make_sky(b), rayleigh = make_sky(r);
+  const Sun sun = sun_at(10, 20);
+  for (double az = 0; az < 360; az += 40) {
+    const Eigen::Vector3d d = enu_direction(az * kDeg, 30 * kDeg);
+    const Eigen::Vector3d e0 = Eigen::Vector3d::UnitZ().cross(d).normalized();
+    const Stokes x = berry->stokes(d, e0, sun), y = rayleigh->stokes(d, e0, sun);
+    CHECK(std::abs(x.s1 - y.s1) < 1e-9);
+    CHECK(std::abs(x.s2 - y.s2) < 1e-9);
+  }
+}
+
+TEST_CASE("Pmax from turbidity follows exp(-(T - 0.6)/4)", "[sky_spec][depolarization]") {
+  CHECK(max_dolp_from_turbidity(2.0) == Approx(0.7046880897187134));
+  CHECK(max_dolp_from_turbidity(6.0) == Approx(0.2592402606458915));
+  CHECK(max_dolp_from_turbidity(1.0) < 1.0);
+  SkySpec s;
+  s.max_dolp_from_turbidity = true;
+  s.turbidity = 2.0;
+  s.max_dolp = 5.0;  // ignored when Pmax comes from the turbidity
+  CHECK(effective_max_dolp(s) == Approx(0.7046880897187134));
+  const auto sky = make_sky(s);
+  const Sun sun = sun_at(0, 0);
+  // 90° from the sun (the zenith for a sun on the horizon) the DoLP is Pmax.
+  CHECK(sky->stokes(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(), sun).dolp() == Approx(0.7046880897187134));
+  CHECK_THROWS_WITH(max_dolp_from_turbidity(-2), Catch::Contains("turbidity"));
+}
+
+TEST_CASE("bad fields: std::invalid_argument naming the field and the legal values", "[sky_spec][bad-input]") {
+  SkySpec s;
+  s.model = "mie";
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.model") && Catch::Contains("rayleigh or berry"));
+  s = {};
+  s.intensity = "perez";
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.intensity") && Catch::Contains("uniform, rayleigh or preetham"));
+  s = {};
+  s.turbidity = -1;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.turbidity") && Catch::Contains("≥ 1"));
+  s = {};
+  s.intensity = "preetham";
+  s.turbidity = 1.5;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.turbidity") && Catch::Contains("[2, 10]"));
+  s = {};
+  s.max_dolp = 1.2;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.max_dolp") && Catch::Contains("[0, 1]"));
+  s = {};
+  s.max_dolp = std::nan("");
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.max_dolp"));
+  s = {};
+  s.separation_deg = 50;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.separation_deg") && Catch::Contains("[0, 45]"));
+  s = {};
+  s.sun_disc_radiance = -1;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.sun_disc_radiance"));
+  s = {};
+  s.clouds.coverage = 1.5;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.clouds.coverage") && Catch::Contains("[0, 1]"));
+  s = {};
+  s.clouds.scale_deg = 0;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.clouds.scale_deg"));
+  s = {};
+  s.clouds.softness = 0;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.clouds.softness"));
+  s = {};
+  s.clouds.brightness = 0.2;
+  CHECK_THAT(error_of(s), Catch::StartsWith("sky.clouds.brightness"));
+  CHECK(error_of(SkySpec{}).empty());
+}
