@@ -20,11 +20,17 @@ namespace skypol::sky {
 namespace {
 
 constexpr int kOctaves = 4;
+constexpr float kOctaveWeight = 1.0f + 0.5f + 0.25f + 0.125f;  // sum of the octaves' amplitudes
 constexpr int kCalibrationPoints = 4096;
 
 float smoothstep01(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
+}
+
+// Octave o of the fractal sum uses its own seed so the octaves do not line up.
+std::uint64_t octave_seed(std::uint64_t seed, int o) {
+  return seed + static_cast<std::uint64_t>(o) * 0x632be59bd9b4e019ULL;
 }
 
 }  // namespace
@@ -45,6 +51,7 @@ CloudySky::CloudySky(std::unique_ptr<SkyModel> clear, CloudParams params)
     : clear_(std::move(clear)), params_(params) {
   if (!clear_) throw std::invalid_argument("CloudySky needs a clear-sky model");
   validate(params_);
+  for (int o = 0; o < kOctaves; ++o) octaves_.emplace_back(octave_seed(params_.seed, o));
   // One lattice cell ≈ one cloud: a cell spans 1/frequency in direction space ≈ that many radians.
   frequency_ = static_cast<float>(1.0 / (params_.scale_deg * std::numbers::pi / 180.0));
   if (params_.coverage <= 0.0) {
@@ -69,13 +76,32 @@ CloudySky::CloudySky(std::unique_ptr<SkyModel> clear, CloudParams params)
 }
 
 float CloudySky::fractal_noise_at(float x, float y, float z) const {
-  return detail::fractal_noise(x * frequency_, y * frequency_, z * frequency_, params_.seed, kOctaves);
+  float sum = 0.0f, amplitude = 1.0f, frequency = frequency_;
+  for (int o = 0; o < kOctaves; ++o) {
+    sum += amplitude * octaves_[static_cast<std::size_t>(o)](x * frequency, y * frequency, z * frequency);
+    amplitude *= 0.5f;
+    frequency *= 2.0f;
+  }
+  return sum / kOctaveWeight;
 }
 
+// The same sum as fractal_noise_at, stopped as soon as the octaves still to come (each in
+// [0, amplitude)) cannot move the value out of the saturated part of the edge ramp: the result is
+// the same, about half the work on a half-cloudy sky.
 float CloudySky::opacity_f(float x, float y, float z) const {
   if (std::isinf(threshold_)) return threshold_ > 0 ? 0.0f : 1.0f;
-  const float v = fractal_noise_at(x, y, z);
-  return smoothstep01((v - threshold_) / static_cast<float>(params_.softness) + 0.5f);
+  const float half = 0.5f * static_cast<float>(params_.softness);
+  const float lo = (threshold_ - half) * kOctaveWeight, hi = (threshold_ + half) * kOctaveWeight;
+  float sum = 0.0f, amplitude = 1.0f, frequency = frequency_, remaining = kOctaveWeight;
+  for (int o = 0; o < kOctaves; ++o) {
+    sum += amplitude * octaves_[static_cast<std::size_t>(o)](x * frequency, y * frequency, z * frequency);
+    remaining -= amplitude;
+    if (sum + remaining <= lo) return 0.0f;
+    if (sum >= hi) return 1.0f;
+    amplitude *= 0.5f;
+    frequency *= 2.0f;
+  }
+  return smoothstep01((sum / kOctaveWeight - threshold_) / static_cast<float>(params_.softness) + 0.5f);
 }
 
 double CloudySky::opacity(const Eigen::Vector3d& d) const {

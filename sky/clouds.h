@@ -11,9 +11,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "sky/noise.h"
 #include "sky/sky_model.h"
 
 namespace skypol::sky {
@@ -46,6 +48,7 @@ class CloudySky final : public SkyModel {
 
   std::unique_ptr<SkyModel> clear_;
   CloudParams params_;
+  std::vector<detail::ValueNoise> octaves_;  // one seeded table per octave
   float frequency_ = 1;   // noise lattice cells per unit of direction
   float threshold_ = 0;   // noise value at α = ½
 };

@@ -1,26 +1,18 @@
-// Value noise: one pseudo-random number per integer lattice point (splitmix64 finalizer of the
-// cell and the seed), blended with the quintic fade 6t⁵ − 15t⁴ + 10t³ (C² continuous, so no
-// visible creases at cell borders).
+// Value noise from a seeded permutation table (Perlin's hashing scheme: three table look-ups
+// per lattice point, no multiplications), filled by a splitmix64 stream.
 #include "sky/noise.h"
 
 #include <cmath>
+#include <cstddef>
 
 namespace skypol::sky::detail {
 namespace {
 
-std::uint64_t mix(std::uint64_t z) {
-  z += 0x9e3779b97f4a7c15ULL;
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
   return z ^ (z >> 31);
-}
-
-float lattice(std::int64_t i, std::int64_t j, std::int64_t k, std::uint64_t seed) {
-  std::uint64_t h = mix(seed);
-  h = mix(h ^ static_cast<std::uint64_t>(i));
-  h = mix(h ^ static_cast<std::uint64_t>(j));
-  h = mix(h ^ static_cast<std::uint64_t>(k));
-  return static_cast<float>(h >> 40) * (1.0f / 16777216.0f);  // top 24 bits → [0, 1)
 }
 
 float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
@@ -28,26 +20,29 @@ float lerp(float a, float b, float t) { return a + (b - a) * t; }
 
 }  // namespace
 
-float value_noise(float x, float y, float z, std::uint64_t seed) {
-  const float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
-  const auto i = static_cast<std::int64_t>(fx), j = static_cast<std::int64_t>(fy), k = static_cast<std::int64_t>(fz);
-  const float u = fade(x - fx), v = fade(y - fy), w = fade(z - fz);
-  const float c00 = lerp(lattice(i, j, k, seed), lattice(i + 1, j, k, seed), u);
-  const float c10 = lerp(lattice(i, j + 1, k, seed), lattice(i + 1, j + 1, k, seed), u);
-  const float c01 = lerp(lattice(i, j, k + 1, seed), lattice(i + 1, j, k + 1, seed), u);
-  const float c11 = lerp(lattice(i, j + 1, k + 1, seed), lattice(i + 1, j + 1, k + 1, seed), u);
-  return lerp(lerp(c00, c10, v), lerp(c01, c11, v), w);
+ValueNoise::ValueNoise(std::uint64_t seed) {
+  std::uint64_t state = seed;
+  for (std::size_t i = 0; i < 256; ++i) {
+    perm_[i] = static_cast<std::uint8_t>(i);
+    values_[i] = static_cast<float>(splitmix64(state) >> 40) * (1.0f / 16777216.0f);  // 24 bits → [0, 1)
+  }
+  for (std::size_t i = 255; i > 0; --i) {  // Fisher–Yates with our own generator
+    const std::size_t j = static_cast<std::size_t>(splitmix64(state) % (i + 1));
+    const std::uint8_t t = perm_[i];
+    perm_[i] = perm_[j];
+    perm_[j] = t;
+  }
 }
 
-float fractal_noise(float x, float y, float z, std::uint64_t seed, int octaves) {
-  float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
-  for (int o = 0; o < octaves; ++o) {
-    sum += amplitude * value_noise(x * frequency, y * frequency, z * frequency, seed + static_cast<std::uint64_t>(o) * 0x632be59bd9b4e019ULL);
-    total += amplitude;
-    amplitude *= 0.5f;
-    frequency *= 2.0f;
-  }
-  return sum / total;
+float ValueNoise::operator()(float x, float y, float z) const {
+  const float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
+  const int i = static_cast<int>(fx), j = static_cast<int>(fy), k = static_cast<int>(fz);
+  const float u = fade(x - fx), v = fade(y - fy), w = fade(z - fz);
+  const float c00 = lerp(lattice(i, j, k), lattice(i + 1, j, k), u);
+  const float c10 = lerp(lattice(i, j + 1, k), lattice(i + 1, j + 1, k), u);
+  const float c01 = lerp(lattice(i, j, k + 1), lattice(i + 1, j, k + 1), u);
+  const float c11 = lerp(lattice(i, j + 1, k + 1), lattice(i + 1, j + 1, k + 1), u);
+  return lerp(lerp(c00, c10, v), lerp(c01, c11, v), w);
 }
 
 }  // namespace skypol::sky::detail

@@ -1,18 +1,28 @@
-// Seeded 3-D value noise (fractal sum of octaves), for procedural sky effects such as clouds.
-// Deterministic: the same seed and point give the same value on every platform (integer hashing,
-// float arithmetic in a fixed order, no library randomness).
+// Seeded 3-D value noise, for procedural sky effects such as clouds (which sum octaves of it).
+// Deterministic: the same seed and point give the same value on every platform (our own integer
+// generator and Fisher–Yates shuffle, no std:: distributions, whose results vary by library).
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 namespace skypol::sky::detail {
 
-// Value noise at (x, y, z): lattice values hashed from (cell, seed), quintic-smoothed trilinear
-// interpolation. Range [0, 1].
-float value_noise(float x, float y, float z, std::uint64_t seed);
+class ValueNoise {
+ public:
+  explicit ValueNoise(std::uint64_t seed);
 
-// `octaves` octaves of value_noise, each at twice the frequency and half the amplitude,
-// normalised to [0, 1]; each octave uses its own seed so the octaves do not line up.
-float fractal_noise(float x, float y, float z, std::uint64_t seed, int octaves);
+  // Value noise at (x, y, z): a pseudo-random value per integer lattice point, blended with the
+  // quintic fade (C² continuous, no creases at cell borders). Range [0, 1). Period 256 cells.
+  float operator()(float x, float y, float z) const;
+
+ private:
+  float lattice(int i, int j, int k) const {
+    return values_[perm_[(perm_[(perm_[i & 255] + j) & 255] + k) & 255]];
+  }
+
+  std::array<std::uint8_t, 256> perm_{};
+  std::array<float, 256> values_{};
+};
 
 }  // namespace skypol::sky::detail

@@ -1,10 +1,13 @@
 // make_sky: builds only what the spec asks for, and refuses bad fields by name.
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "sky/berry.h"
 #include "sky/clouds.h"
@@ -143,4 +146,36 @@ TEST_CASE("bad fields: std::invalid_argument naming the field and the legal valu
   s.clouds.brightness = 0.2;
   CHECK_THAT(error_of(s), Catch::StartsWith("sky.clouds.brightness"));
   CHECK(error_of(SkySpec{}).empty());
+}
+
+TEST_CASE("batch throughput of every configuration (informational)", "[.][benchmark]") {
+  std::vector<ViewRay> rays;
+  for (int i = 0; i < 1 << 16; ++i) {
+    const double u = (i + 0.5) / (1 << 16), az = 2.399963 * i;
+    const Eigen::Vector3d d(std::sqrt(1 - u * u) * std::sin(az), std::sqrt(1 - u * u) * std::cos(az), u);
+    rays.push_back({d.cast<float>(), Eigen::Vector3d::UnitZ().cross(d).normalized().cast<float>()});
+  }
+  std::vector<StokesF> out(rays.size());
+  const Sun sun = sun_at(140, 25);
+  struct Config { const char* label; SkySpec spec; };
+  SkySpec berry;
+  berry.model = "berry";
+  SkySpec preetham;
+  preetham.intensity = "preetham";
+  preetham.sun_disc = true;
+  SkySpec cloudy;
+  cloudy.clouds.coverage = 0.4;
+  for (const Config& c : {Config{"rayleigh", SkySpec{}}, Config{"berry", berry}, Config{"rayleigh+preetham+disc", preetham},
+                          Config{"rayleigh+clouds", cloudy}}) {
+    const auto sky = make_sky(c.spec);
+    const auto t0 = std::chrono::steady_clock::now();
+    int reps = 0;
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::milliseconds(300)) {
+      sky->stokes(rays, sun, out);
+      ++reps;
+    }
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("%-24s %7.1f Mrays/s on one core\n", c.label, static_cast<double>(rays.size()) * reps / s / 1e6);
+  }
+  CHECK(out[0].s0 > 0);
 }

@@ -171,6 +171,26 @@ TEST_CASE("refraction lifts the sun, most near the horizon, and stays finite bel
   }
 }
 
+TEST_CASE("the sun at the zenith of the subsolar point is finite and overhead", "[sun][hard]") {
+  // Walk the site to the subsolar point: latitude ← declination, longitude ← longitude − hour angle.
+  for (const char* when : {"2024-06-20T20:51:00Z", "2024-03-20T12:00:00Z", "2024-12-21T06:00:00Z"}) {
+    const Instant t = parse_iso8601(when);
+    Site site{0, 0, 0};
+    Sun sun = sun_position(site, t);
+    for (int k = 0; k < 4; ++k) {
+      site.latitude_deg = deg(sun.declination);
+      site.longitude_deg = std::remainder(site.longitude_deg - deg(sun.hour_angle), 360.0);
+      sun = sun_position(site, t);
+    }
+    INFO(when);
+    CHECK(deg(sun.elevation) > 90 - 1e-6);
+    CHECK(sun.elevation <= kPi / 2);
+    CHECK(std::isfinite(sun.azimuth));
+    CHECK(std::isfinite(sun.hour_angle));
+    CHECK((sun.direction - Eigen::Vector3d::UnitZ()).norm() < 1e-7);
+  }
+}
+
 TEST_CASE("ENU helpers: azimuth from North towards East, elevation above the horizon", "[sun]") {
   CHECK((enu_direction(0, 0) - Eigen::Vector3d(0, 1, 0)).norm() < 1e-15);          // North
   CHECK((enu_direction(kPi / 2, 0) - Eigen::Vector3d(1, 0, 0)).norm() < 1e-15);    // East
