@@ -11,7 +11,6 @@
 #include <cassert>
 #include <cmath>
 #include <cstddef>
-#include <numbers>
 #include <stdexcept>
 
 #include "sky/ray_block.h"
@@ -37,8 +36,6 @@ double perez(const Perez& p, double cos_theta, double gamma) {
 
 double sun_zenith_angle(const Sun& sun) { return std::acos(std::clamp(sun.direction.z(), -1.0, 1.0)); }
 
-const double kCosSunRadius = std::cos(kSunAngularRadiusDeg * std::numbers::pi / 180.0);
-
 }  // namespace
 
 IntensityModel intensity_model_from_name(const std::string& name) {
@@ -62,9 +59,6 @@ void validate(const IntensityParams& p) {
     throw std::invalid_argument("turbidity " + std::to_string(p.turbidity) +
                                 " is outside [2, 10], the range where Preetham's luminance fit is usable");
   }
-  if (p.sun_disc && !(std::isfinite(p.sun_disc_radiance) && p.sun_disc_radiance >= 0.0)) {
-    throw std::invalid_argument("sun_disc_radiance " + std::to_string(p.sun_disc_radiance) + " must be ≥ 0");
-  }
 }
 
 double sky_radiance(const IntensityParams& params, const Eigen::Vector3d& d, const Sun& sun) {
@@ -79,7 +73,6 @@ double sky_radiance(const IntensityParams& params, const Eigen::Vector3d& d, con
       break;
     }
   }
-  if (params.sun_disc && c >= kCosSunRadius) radiance += params.sun_disc_radiance;
   return radiance;
 }
 
@@ -91,13 +84,9 @@ IntensitySky::IntensitySky(std::unique_ptr<SkyModel> inner, IntensityParams para
 
 Stokes IntensitySky::stokes(const Eigen::Vector3d& d, const Eigen::Vector3d& e0, const Sun& sun) const {
   const Stokes s = inner_->stokes(d, e0, sun);
-  IntensityParams no_disc = params_;
-  no_disc.sun_disc = false;
-  const double radiance = sky_radiance(no_disc, d, sun);
+  const double radiance = sky_radiance(params_, d, sun);
   const double k = s.s0 > 0 ? radiance / s.s0 : 0.0;
-  Stokes r{radiance, k * s.s1, k * s.s2, k * s.s3};
-  if (params_.sun_disc && d.dot(sun.direction) >= kCosSunRadius) r.s0 += params_.sun_disc_radiance;
-  return r;
+  return {radiance, k * s.s1, k * s.s2, k * s.s3};
 }
 
 void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<StokesF> out) const {
@@ -111,8 +100,6 @@ void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::sp
   const float pa = static_cast<float>(pd.a), pb = static_cast<float>(pd.b), pc = static_cast<float>(pd.c),
               pdd = static_cast<float>(pd.d), pe = static_cast<float>(pd.e);
   const float norm = static_cast<float>(1.0 / perez(pd, 1.0, sun_zenith_angle(sun)));
-  const float cos_disc = static_cast<float>(kCosSunRadius);
-  const float disc = params_.sun_disc ? static_cast<float>(params_.sun_disc_radiance) : 0.0f;
   const IntensityModel model = params_.model;
   detail::for_each_ray_block(rays, [&](const detail::RayBlock& b) {
     float radiance[detail::RayBlock::kSize];
@@ -131,8 +118,7 @@ void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::sp
     StokesF* __restrict o = out.data() + b.first;
     for (std::size_t j = 0; j < b.count; ++j) {
       const float k = o[j].s0 > 0.0f ? radiance[j] / o[j].s0 : 0.0f;
-      const float c = b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz;
-      o[j].s0 = radiance[j] + (c >= cos_disc ? disc : 0.0f);
+      o[j].s0 = radiance[j];
       o[j].s1 *= k;
       o[j].s2 *= k;
       o[j].s3 *= k;

@@ -8,8 +8,7 @@
 //             F(θ, γ) = (1 + A e^{B/cos θ})(1 + C e^{Dγ} + E cos²γ) with A…E linear in the
 //             turbidity T (their Appendix A.2), as Y/Y_zenith = F(θ, γ)/F(0, θs): 1 at the zenith.
 //             Defined above the horizon; below it the horizon's value is used (no ground model).
-// The sun's disc (angular radius 0.2666°) can be added as unpolarized radiance, for scenes that
-// need an over-exposed sun.
+// The sun's disc is a separate effect (sun_disc.h), applied after clouds so that cloud hides it.
 #pragma once
 
 #include <memory>
@@ -21,8 +20,6 @@
 
 namespace skypol::sky {
 
-inline constexpr double kSunAngularRadiusDeg = 0.2666;  // mean apparent solar semi-diameter
-
 enum class IntensityModel { uniform, rayleigh, preetham };
 
 // "uniform" / "rayleigh" / "preetham"; throws std::invalid_argument listing the legal names.
@@ -31,19 +28,17 @@ std::string to_string(IntensityModel model);
 
 struct IntensityParams {
   IntensityModel model = IntensityModel::rayleigh;
-  double turbidity = 3.0;             // preetham only; [2, 10] (see intensity.cpp for why)
-  bool sun_disc = false;              // add the sun's disc
-  double sun_disc_radiance = 2.0e5;   // S0 added inside the disc; ≈ solar/zenith-sky luminance ratio
+  double turbidity = 3.0;  // preetham only; [2, 10] (see intensity.cpp for why)
 };
 
 // Throws std::invalid_argument naming the bad field and its legal range.
 void validate(const IntensityParams& params);
 
-// Radiance of the sky (disc included if asked for) in the unit ENU direction d.
+// Radiance of the sky in the unit ENU direction d.
 double sky_radiance(const IntensityParams& params, const Eigen::Vector3d& d, const Sun& sun);
 
-// Gives an inner model's pattern a different radiance: S' = S·I(d)/S0 (DoLP and AoLP kept),
-// plus the disc as (L, 0, 0, 0). The factory only wraps when the scene asks for it.
+// Gives an inner model's pattern a different radiance: S' = S·I(d)/S0 (DoLP and AoLP kept).
+// The factory only wraps when the scene asks for a radiance other than the pattern's own.
 class IntensitySky final : public SkyModel {
  public:
   IntensitySky(std::unique_ptr<SkyModel> inner, IntensityParams params);

@@ -9,6 +9,7 @@
 #include "sky/depolarization.h"
 #include "sky/intensity.h"
 #include "sky/rayleigh.h"
+#include "sky/sun_disc.h"
 
 namespace skypol::sky {
 namespace {
@@ -74,12 +75,9 @@ std::unique_ptr<SkyModel> make_sky(const SkySpec& spec) {
   IntensityParams radiance;
   radiance.model = intensity_model_from_name(spec.intensity);
   radiance.turbidity = spec.turbidity;
-  radiance.sun_disc = spec.sun_disc;
-  radiance.sun_disc_radiance = spec.sun_disc_radiance;
-  if (radiance.model != IntensityModel::rayleigh || radiance.sun_disc) {
-    sky = std::make_unique<IntensitySky>(std::move(sky), radiance);
-  }
+  if (radiance.model != IntensityModel::rayleigh) sky = std::make_unique<IntensitySky>(std::move(sky), radiance);
   if (spec.clouds.coverage > 0.0) sky = std::make_unique<CloudySky>(std::move(sky), spec.clouds);
+  if (spec.sun_disc) sky = std::make_unique<SunDiscSky>(std::move(sky), spec.sun_disc_radiance);  // over clouds
   return sky;
 }
 

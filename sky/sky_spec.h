@@ -1,7 +1,6 @@
 // Building a sky model from plain values, so that the scene loader needs to know no model class.
-// Only what a spec asks for is built: the default spec gives a bare RayleighSky; the radiance
-// wrapper exists only for a non-Rayleigh radiance or the sun's disc, the cloud wrapper only for
-// coverage > 0.
+// Only what a spec asks for is built: the default spec gives a bare RayleighSky. Wrappers, inner
+// to outer: IntensitySky (radiance ≠ rayleigh), CloudySky (coverage > 0), SunDiscSky (sun_disc).
 #pragma once
 
 #include <memory>

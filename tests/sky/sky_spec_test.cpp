@@ -15,6 +15,7 @@
 #include "sky/intensity.h"
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
+#include "sky/sun_disc.h"
 
 using namespace skypol::sky;
 
@@ -61,15 +62,21 @@ TEST_CASE("wrappers appear only for what is asked, clouds outermost", "[sky_spec
     CHECK(dynamic_cast<const BerrySky*>(&lit->inner()) != nullptr);
     CHECK(sky->name() == "berry");
   }
-  s.intensity = "rayleigh";
-  s.sun_disc = true;
-  CHECK(dynamic_cast<const IntensitySky*>(make_sky(s).get()) != nullptr);
   s.clouds.coverage = 0.3;
   {
     const auto sky = make_sky(s);
     const auto* cloudy = dynamic_cast<const CloudySky*>(sky.get());
     REQUIRE(cloudy != nullptr);
     CHECK(dynamic_cast<const IntensitySky*>(&cloudy->clear()) != nullptr);
+  }
+  s.intensity = "rayleigh";
+  s.clouds.coverage = 0;
+  s.sun_disc = true;
+  {
+    const auto sky = make_sky(s);
+    const auto* disc = dynamic_cast<const SunDiscSky*>(sky.get());
+    REQUIRE(disc != nullptr);
+    CHECK(dynamic_cast<const BerrySky*>(&disc->inner()) != nullptr);  // no radiance wrapper needed
   }
 }
 

@@ -1,0 +1,101 @@
+// The sun's disc: unpolarized radiance within 0.2666° of the sun, hidden by thick cloud.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "sky/clouds.h"
+#include "sky/rayleigh.h"
+#include "sky/sky_spec.h"
+#include "sky/sun_disc.h"
+
+using namespace skypol::sky;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+Sun sun_at(double azimuth_deg, double elevation_deg) {
+  Sun s;
+  s.azimuth = azimuth_deg * kDeg;
+  s.elevation = elevation_deg * kDeg;
+  s.direction = enu_direction(s.azimuth, s.elevation);
+  return s;
+}
+
+Eigen::Vector3d perpendicular(const Eigen::Vector3d& d) {
+  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  return (a - a.dot(d) * d).normalized();
+}
+}  // namespace
+
+TEST_CASE("the disc adds unpolarized radiance within 0.2666 degrees of the sun", "[sun_disc]") {
+  const SunDiscSky sky(std::make_unique<RayleighSky>(RayleighParams{0.8}), 1e5);
+  const Sun sun = sun_at(100, 40);
+  const Stokes centre = sky.stokes(sun.direction, perpendicular(sun.direction), sun);
+  CHECK(centre.s0 == Approx(1e5 + 2.0));
+  CHECK(centre.dolp() < 1e-12);
+  const Eigen::Vector3d inside = enu_direction(100 * kDeg, 40.26 * kDeg);
+  CHECK(sky.stokes(inside, perpendicular(inside), sun).s0 > 1e5);
+  CHECK(sky.stokes(inside, perpendicular(inside), sun).dolp() < 1e-8);  // the sky's polarization is drowned
+  const Eigen::Vector3d outside = enu_direction(100 * kDeg, 40.27 * kDeg);
+  CHECK(sky.stokes(outside, perpendicular(outside), sun).s0 < 3.0);
+  CHECK(sky.name() == "rayleigh");
+}
+
+TEST_CASE("thick cloud hides the disc; the factory puts the disc over the clouds", "[sun_disc][clouds]") {
+  SkySpec spec;
+  spec.sun_disc = true;
+  spec.sun_disc_radiance = 1e5;
+  spec.clouds.coverage = 0.5;
+  spec.clouds.seed = 3;
+  const auto sky = make_sky(spec);
+  const auto* disc = dynamic_cast<const SunDiscSky*>(sky.get());
+  REQUIRE(disc != nullptr);
+  const auto* clouds = dynamic_cast<const CloudySky*>(&disc->inner());
+  REQUIRE(clouds != nullptr);
+  // Put the sun behind thick cloud, then in clear sky, by searching directions.
+  bool hidden = false, shown = false;
+  for (double az = 0; az < 360 && !(hidden && shown); az += 3) {
+    for (double el = 5; el < 85; el += 3) {
+      const Sun sun = sun_at(az, el);
+      const double a = clouds->opacity(sun.direction);
+      const Stokes s = sky->stokes(sun.direction, perpendicular(sun.direction), sun);
+      const Stokes under = clouds->stokes(sun.direction, perpendicular(sun.direction), sun);
+      CHECK(s.s0 == Approx(under.s0 + 1e5 * (1 - a)).epsilon(1e-12));
+      if (a == 1.0) {
+        hidden = true;
+        CHECK(s.s0 < 10.0);  // only the glowing cloud
+      }
+      if (a == 0.0) {
+        shown = true;
+        CHECK(s.s0 > 1e5);
+      }
+    }
+  }
+  CHECK(hidden);
+  CHECK(shown);
+}
+
+TEST_CASE("disc batch path equals the scalar path", "[sun_disc][batch]") {
+  const SunDiscSky sky(std::make_unique<RayleighSky>(RayleighParams{0.7}), 500);
+  const Sun sun = sun_at(33, 12);
+  std::vector<ViewRay> rays;
+  for (double off = -0.5; off <= 0.5; off += 0.01) {
+    const Eigen::Vector3d d = enu_direction(33 * kDeg, (12 + off) * kDeg);
+    rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
+  }
+  std::vector<StokesF> out(rays.size());
+  sky.stokes(rays, sun, out);
+  int in_disc = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Stokes ref = sky.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
+    const double off = -0.5 + 0.01 * static_cast<double>(i);
+    if (std::abs(std::abs(off) - kSunAngularRadiusDeg) < 0.002) continue;  // float vs double at the rim
+    CHECK(out[i].s0 == Approx(ref.s0).epsilon(1e-5));
+    in_disc += ref.s0 > 100 ? 1 : 0;
+  }
+  CHECK(in_disc == 53);  // −0.26° … +0.26° in 0.01° steps
+  CHECK_THROWS_WITH(SunDiscSky(std::make_unique<RayleighSky>(), -1), Catch::Contains("sun_disc_radiance"));
+}
