@@ -17,7 +17,11 @@ namespace skypol::camera {
 struct DofpSensor {
   int width = 0, height = 0;
   // Polarizer angle (degrees) of the pixels at (row mod 2, col mod 2), in the order
-  // {(0,0), (0,1), (1,0), (1,1)}: the IMX250MZR's 90° 45° over 135° 0°.
+  // {(0,0), (0,1), (1,0), (1,1)}: the IMX250MZR's 90° 45° over 135° 0°. Angles are in skypol's
+  // sensor convention (from +x towards +y, i.e. clockwise as displayed with rows going down).
+  // Unverified: whether Sony's "45°" pixel transmits along the displayed up-right diagonal (then
+  // it is 135° here and the layout is {90, 135, 45, 0}); the choice flips the sign of S2 and of
+  // AoLP, never DoLP. Check against a rotating-polarizer measurement before trusting AoLP signs.
   std::array<double, 4> mosaic_deg = {90, 45, 135, 0};
   // Manufacturing errors per mosaic position: angle offsets (degrees) added to mosaic_deg.
   std::array<double, 4> angle_error_deg = {0, 0, 0, 0};

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
+#include "camera/colmap_import.h"
 #include "camera/lens_factory.h"
 
 using namespace skypol::camera;
@@ -107,4 +109,42 @@ TEST_CASE("make_lens names the bad field", "[factory]") {
   o.ocamcalib_path = std::string(SKYPOL_SOURCE_DIR) + "/tests/camera/data/ocam_calib_results.txt";
   o.width = 2448;
   CHECK_THROWS_WITH(make_lens(o), "width 2448 differs from the calibration's 1224");
+}
+
+TEST_CASE("COLMAP OPENCV_FISHEYE line: same pixels as COLMAP after the 0.5 px centre shift", "[factory]") {
+  // Equidistant-like 185° lens in COLMAP's convention: centre of the 2448×2048 sensor at (1224, 1024).
+  const LensSpec s = lens_spec_from_colmap("1 OPENCV_FISHEYE 2448 2048 521.739 521.739 1224 1024 0.01 -0.002 0 0");
+  CHECK(s.model == "kannala_brandt");
+  CHECK(*s.cx == 1223.5);
+  CHECK(*s.cy == 1023.5);
+  CHECK(s.coefficients == std::vector<double>{0.01, -0.002, 0, 0});
+  const auto lens = make_lens(s);
+  // COLMAP's pixel of the direction 60° off-axis towards +x: (cx + f·θd(θ), cy) in its own
+  // convention, i.e. 0.5 px less in ours.
+  const double t = 60 * kDeg, td = t * (1 + 0.01 * t * t - 0.002 * std::pow(t, 4));
+  const auto p = lens->project({std::sin(t), 0, std::cos(t)});
+  REQUIRE(p);
+  CHECK(p->x() == Approx(1224 + 521.739 * td - 0.5).epsilon(1e-14));
+  CHECK(p->y() == Approx(1023.5));
+  // COLMAP knows no field of view; the corners (r = |(1224, 1024)|/f = 3.06) lie beyond what
+  // this polynomial reaches at 180° (θd(π) = π(1 + 0.01π² − 0.002π⁴) = 2.84), so fov_deg is the
+  // whole 360° and the corner pixels are masked. A scene overrides fov_deg with the lens' 185°.
+  CHECK(*s.fov_deg == Approx(360));
+  CHECK_FALSE(lens->ray({0, 0}));
+  CHECK(lens->ray({1223.5 + 521.739 * 2.8, 1023.5}));
+}
+
+TEST_CASE("COLMAP PINHOLE line and its errors", "[factory]") {
+  const LensSpec s = lens_spec_from_colmap("3 SIMPLE_PINHOLE 640 480 500 320 240");
+  CHECK(s.model == "perspective");
+  CHECK(*s.fy == 500);
+  // Farthest corner (−0.5 − 319.5, −0.5 − 239.5) = 400 px → θ = atan(0.8), FOV 77.32°.
+  CHECK(*s.fov_deg == Approx(2 * std::atan(0.8) / kDeg));
+  CHECK(make_lens(s)->name() == "perspective");
+  CHECK_THROWS_WITH(lens_spec_from_colmap("1 RADIAL_FISHEYE 640 480 1 2 3 4 5"),
+                    Catch::Contains("not supported") && Catch::Contains("OPENCV_FISHEYE"));
+  CHECK_THROWS_WITH(lens_spec_from_colmap("1 PINHOLE 640 480 500 500 320"),
+                    Catch::Contains("needs 4 parameters (fx, fy, cx, cy), got 3"));
+  CHECK_THROWS_WITH(lens_spec_from_colmap("1 PINHOLE 640 480 500 abc 320 240"),
+                    Catch::Contains("\"abc\" is not a number"));
 }

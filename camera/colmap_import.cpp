@@ -1,0 +1,91 @@
+// COLMAP cameras.txt line → LensSpec (colmap_import.h).
+#include "camera/colmap_import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "camera/kannala_brandt.h"
+
+namespace skypol::camera {
+
+LensSpec lens_spec_from_colmap(std::string_view line) {
+  std::istringstream in{std::string(line)};
+  std::string id, model;
+  int width = 0, height = 0;
+  if (!(in >> id >> model >> width >> height))
+    throw std::invalid_argument("COLMAP camera line: expected \"CAMERA_ID MODEL WIDTH HEIGHT PARAMS...\"");
+  std::vector<double> p;
+  std::string tok;
+  while (in >> tok) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(tok, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != tok.size() || !std::isfinite(v))
+      throw std::invalid_argument("COLMAP camera line: parameter \"" + tok + "\" is not a number");
+    p.push_back(v);
+  }
+  auto need = [&](std::size_t n, const char* order) {
+    if (p.size() != n)
+      throw std::invalid_argument("COLMAP " + model + " needs " + std::to_string(n) + " parameters (" +
+                                  order + "), got " + std::to_string(p.size()));
+  };
+  LensSpec s;
+  s.width = width;
+  s.height = height;
+  if (model == "OPENCV_FISHEYE") {
+    need(8, "fx, fy, cx, cy, k1, k2, k3, k4");
+    s.model = "kannala_brandt";
+    s.fx = p[0];
+    s.fy = p[1];
+    s.cx = p[2] - 0.5;
+    s.cy = p[3] - 0.5;
+    s.coefficients = {p[4], p[5], p[6], p[7]};
+  } else if (model == "PINHOLE" || model == "SIMPLE_PINHOLE") {
+    const bool simple = model == "SIMPLE_PINHOLE";
+    need(simple ? 3 : 4, simple ? "f, cx, cy" : "fx, fy, cx, cy");
+    s.model = "perspective";
+    s.fx = p[0];
+    s.fy = simple ? p[0] : p[1];
+    s.cx = p[simple ? 1 : 2] - 0.5;
+    s.cy = p[simple ? 2 : 3] - 0.5;
+  } else {
+    throw std::invalid_argument("COLMAP camera model \"" + model +
+                                "\" is not supported (supported: OPENCV_FISHEYE, PINHOLE, SIMPLE_PINHOLE)");
+  }
+  if (!(*s.fx > 0) || !(*s.fy > 0)) throw std::invalid_argument("COLMAP camera line: focal lengths must be > 0");
+  if (width < 1 || height < 1) throw std::invalid_argument("COLMAP camera line: width and height must be > 0");
+
+  // Field of view: the angle of the farthest sensor corner (pixel-edge corners).
+  double r_corner = 0;
+  for (double u : {-0.5, width - 0.5})
+    for (double v : {-0.5, height - 0.5})
+      r_corner = std::max(r_corner, std::hypot((u - *s.cx) / *s.fx, (v - *s.cy) / *s.fy));
+  double theta = 0;
+  if (s.model == "perspective") {
+    theta = std::atan(r_corner);
+  } else {
+    Intrinsics k;
+    k.fx = *s.fx;
+    k.fy = *s.fy;
+    k.cx = *s.cx;
+    k.cy = *s.cy;
+    const KannalaBrandtLens kb(k, {p[4], p[5], p[6], p[7]}, std::numbers::pi,
+                               KannalaBrandtLens::OnTurnover::clamp_fov);
+    const auto d = kb.ray({k.cx + k.fx * r_corner, k.cy});
+    theta = d ? std::atan2(std::hypot(d->x(), d->y()), d->z()) : kb.max_field_angle();
+    s.clamp_fov_to_monotone = true;
+  }
+  s.fov_deg = 2 * theta * 180 / std::numbers::pi;
+  return s;
+}
+
+}  // namespace skypol::camera
