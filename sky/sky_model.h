@@ -29,6 +29,8 @@ struct StokesF {
   float s0, s1, s2, s3;
 };
 
+// Models are immutable once built: every const member function may be called from many threads
+// at once (the renderer's tiles share one model).
 class SkyModel {
  public:
   virtual ~SkyModel() = default;

@@ -158,7 +158,11 @@ Instant parse_iso8601(std::string_view text) {
 }
 
 CalendarUtc to_calendar(Instant t) {
-  if (!std::isfinite(t.unix_seconds)) throw std::invalid_argument("to_calendar: the instant is not finite");
+  // ±1e12 s is ±31 700 years: far beyond any use, and keeps the integer conversions below exact.
+  if (!(std::abs(t.unix_seconds) < 1e12)) {
+    throw std::invalid_argument("instant " + std::to_string(t.unix_seconds) +
+                                " s from 1970 is not finite or beyond ±1e12 s (±31 700 years)");
+  }
   const double whole = std::floor(t.unix_seconds);
   const double fraction = t.unix_seconds - whole;
   const auto total = static_cast<long long>(whole);

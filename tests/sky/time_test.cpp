@@ -2,6 +2,7 @@
 // not from skypol.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -65,6 +66,8 @@ TEST_CASE("format then parse is the identity to the millisecond", "[time]") {
   // Rounded to the millisecond before splitting into fields: never "…:59.1000" or ":60".
   CHECK(format_iso8601(Instant{1663929059.9996}) == "2022-09-23T10:31:00Z");
   CHECK(to_calendar(Instant{-0.25}).second == Approx(59.75));
+  CHECK_THROWS_AS(to_calendar(Instant{1e300}), std::invalid_argument);  // no overflow in the conversions
+  CHECK_THROWS_AS(format_iso8601(Instant{std::nan("")}), std::invalid_argument);
 }
 
 TEST_CASE("bad instants throw std::invalid_argument saying what was expected", "[time][bad-input]") {
