@@ -119,20 +119,52 @@ std::vector<std::uint16_t> simulate_raw(const DofpSensor& s, std::span<const flo
   return raw;
 }
 
-StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw) {
+StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw,
+                               Demosaic mode) {
   validate(s);
   const int w = s.width, h = s.height;
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
-  // Which mosaic position holds 0°, 45°, 90°, 135°.
+  // Which mosaic position holds 0°, 45°, 90°, 135° (nominal mode).
   std::array<int, 4> pos{-1, -1, -1, -1};
   for (int i = 0; i < 4; ++i) {
     const double a = std::fmod(std::fmod(s.mosaic_deg[i], 180.0) + 180.0, 180.0);
     for (int k = 0; k < 4; ++k)
       if (std::abs(a - 45.0 * k) < 1e-9) pos[k] = i;
   }
-  for (int k : pos)
-    if (k < 0) throw std::invalid_argument("mosaic_deg must hold 0, 45, 90 and 135");
+  if (mode == Demosaic::nominal)
+    for (int k : pos)
+      if (k < 0) throw std::invalid_argument("mosaic_deg must hold 0, 45, 90 and 135");
+  // Calibrated mode: rows of the analyzer matrix A (I = A·S, polarizer_radiance's coefficients)
+  // and its least-squares inverse (AᵀA)⁻¹Aᵀ, 3 × 4.
+  std::array<std::array<double, 4>, 3> inv{};
+  if (mode == Demosaic::calibrated) {
+    const double tmin = 1 / s.extinction_ratio;
+    std::array<std::array<double, 3>, 4> a{};
+    for (int i = 0; i < 4; ++i) {
+      const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;
+      a[i] = {0.5 * (1 + tmin), 0.5 * (1 - tmin) * std::cos(2 * th), 0.5 * (1 - tmin) * std::sin(2 * th)};
+    }
+    double ata[3][3] = {};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        for (int i = 0; i < 4; ++i) ata[r][c] += a[i][r] * a[i][c];
+    // 3×3 inverse by cofactors.
+    const double det = ata[0][0] * (ata[1][1] * ata[2][2] - ata[1][2] * ata[2][1]) -
+                       ata[0][1] * (ata[1][0] * ata[2][2] - ata[1][2] * ata[2][0]) +
+                       ata[0][2] * (ata[1][0] * ata[2][1] - ata[1][1] * ata[2][0]);
+    if (!(std::abs(det) > 1e-12))
+      throw std::invalid_argument("mosaic_deg: the four polarizer angles do not determine S1 and S2");
+    double ai[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+        ai[r][c] = (ata[r1][c1] * ata[r2][c2] - ata[r1][c2] * ata[r2][c1]) / det;
+      }
+    for (int r = 0; r < 3; ++r)
+      for (int i = 0; i < 4; ++i)
+        inv[r][i] = ai[r][0] * a[i][0] + ai[r][1] * a[i][1] + ai[r][2] * a[i][2];
+  }
 
   const double t = s.exposure_us * 1e-6;
   const double dark_e = s.dark_current_e_s * t;
@@ -163,9 +195,19 @@ StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_
   out.s2.resize(n);
   for (int r = 0; r < h; ++r)
     for (int c = 0; c < w; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c;
+      if (mode == Demosaic::calibrated) {
+        std::array<double, 4> v;
+        for (int k = 0; k < 4; ++k) v[k] = channel(k, r, c);
+        double st[3];
+        for (int q = 0; q < 3; ++q) st[q] = inv[q][0] * v[0] + inv[q][1] * v[1] + inv[q][2] * v[2] + inv[q][3] * v[3];
+        out.s0[i] = static_cast<float>(st[0]);
+        out.s1[i] = static_cast<float>(st[1]);
+        out.s2[i] = static_cast<float>(st[2]);
+        continue;
+      }
       const double i0 = channel(pos[0], r, c), i45 = channel(pos[1], r, c);
       const double i90 = channel(pos[2], r, c), i135 = channel(pos[3], r, c);
-      const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c;
       out.s0[i] = static_cast<float>(0.5 * (i0 + i45 + i90 + i135));
       out.s1[i] = static_cast<float>(i0 - i90);
       out.s2[i] = static_cast<float>(i45 - i135);

@@ -63,9 +63,14 @@ std::vector<std::uint16_t> simulate_raw(const DofpSensor& sensor, std::span<cons
 // S0 = ½(I0 + I45 + I90 + I135), S1 = I0 − I90, S2 = I45 − I135 — assuming ideal polarizers at
 // the nominal mosaic angles, as an uncalibrated pipeline does (so ER and angle errors show up).
 // The mosaic must hold the four angles 0, 45, 90, 135 in some order.
+// Demosaic::calibrated instead inverts the sensor's own analyzer (extinction ratio and angle
+// errors included) by least squares over the four interpolated channels, as a pipeline with a
+// per-sensor calibration does; then any four distinct angles (mod 180°) will do.
 struct StokesPlanes {
   std::vector<float> s0, s1, s2;
 };
-StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const std::uint16_t> raw);
+enum class Demosaic { nominal, calibrated };
+StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
+                               Demosaic mode = Demosaic::nominal);
 
 }  // namespace skypol::camera

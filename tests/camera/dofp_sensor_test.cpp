@@ -199,3 +199,23 @@ TEST_CASE("bad sensor parameters are named", "[sensor]") {
   std::vector<float> small(3);
   CHECK_THROWS_AS(simulate_raw(clean(), small, small, small, 0), std::invalid_argument);
 }
+
+TEST_CASE("calibrated demosaic undoes extinction ratio and angle errors", "[sensor]") {
+  DofpSensor s = clean();
+  s.extinction_ratio = 50;
+  s.angle_error_deg = {1.5, -2, 0.7, 3};
+  // Light with DoLP 0.8 at AoLP 20°: S = (1, 0.8 cos 40°, 0.8 sin 40°).
+  const float s1 = static_cast<float>(0.8 * std::cos(40 * kDeg)), s2 = static_cast<float>(0.8 * std::sin(40 * kDeg));
+  const Field f = uniform(s, 1, s1, s2);
+  const auto raw = simulate_raw(s, f.s0, f.s1, f.s2, 0);
+  const StokesPlanes cal = demosaic_bilinear(s, raw, Demosaic::calibrated);
+  const StokesPlanes nom = demosaic_bilinear(s, raw);
+  const std::size_t i = 20 * 64 + 30;
+  CHECK(cal.s0[i] == Approx(1).margin(3e-4));
+  CHECK(cal.s1[i] == Approx(s1).margin(3e-4));
+  CHECK(cal.s2[i] == Approx(s2).margin(3e-4));
+  // The nominal pipeline is off by the errors: its AoLP misses 20° by more than 0.1°.
+  const double aolp_nom = 0.5 * std::atan2(double{nom.s2[i]}, double{nom.s1[i]}) / kDeg;
+  CHECK(std::abs(aolp_nom - 20) > 0.1);
+  CHECK(0.5 * std::atan2(double{cal.s2[i]}, double{cal.s1[i]}) / kDeg == Approx(20).margin(0.02));
+}
