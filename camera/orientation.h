@@ -28,8 +28,9 @@ namespace skypol::camera {
 // or an angle is not finite.
 Eigen::Matrix3d world_from_heading_tilt_roll(double heading_deg, double tilt_deg, double roll_deg);
 
-// The same from a unit quaternion (w, x, y, z), world ← camera; normalised on input, throws for
-// a zero or non-finite quaternion.
+// The same from a unit quaternion (w, x, y, z), world ← camera, Hamilton convention (as Eigen;
+// ROS and SciPy print (x, y, z, w): reorder). Normalised on input; throws for a zero or non-finite
+// quaternion. Example: (cos 45°, 0, 0, sin 45°) is the ψ = 90° zenith camera above.
 Eigen::Matrix3d world_from_quaternion(double w, double x, double y, double z);
 
 // The camera heading ψ that a world_from_camera rotation implies, degrees in [0, 360): the
