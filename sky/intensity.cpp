@@ -8,9 +8,11 @@
 #include "sky/intensity.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 
 #include "sky/ray_block.h"
@@ -32,6 +34,40 @@ double perez(const Perez& p, double cos_theta, double gamma) {
   const double ct = std::max(cos_theta, 1e-4);  // e^{B/cos θ} → 0 at the horizon since B < 0
   const double cg = std::cos(gamma);
   return (1.0 + p.a * std::exp(p.b / ct)) * (1.0 + p.c * std::exp(p.d * gamma) + p.e * cg * cg);
+}
+
+// Float approximations that GCC vectorizes (the libm calls do not vectorize without -ffast-math);
+// the scalar double path uses libm and is the reference the batch path is tested against.
+
+// acos on [−1, 1]: Abramowitz & Stegun 4.4.46 on |x| (|error| ≤ 2e-8 rad), reflected for x < 0.
+float acos_approx(float x) {
+  const float ax = std::fabs(x);
+  float p = -0.0012624911f;
+  p = p * ax + 0.0066700901f;
+  p = p * ax - 0.0170881256f;
+  p = p * ax + 0.0308918810f;
+  p = p * ax - 0.0501743046f;
+  p = p * ax + 0.0889789874f;
+  p = p * ax - 0.2145988016f;
+  p = p * ax + 1.5707963050f;
+  const float r = std::sqrt(1.0f - ax) * p;
+  return x < 0.0f ? 3.14159265f - r : r;
+}
+
+// e^x = 2^n · 2^f with n = round(x·log2 e) (by the 1.5·2²³ trick) and 2^f, |f| ≤ ½, from its
+// degree-6 Taylor polynomial (relative error ≤ 2e-7); x clamped to [−87, 88] (normal floats).
+float exp_approx(float x) {
+  const float y = std::clamp(x, -87.0f, 88.0f) * 1.44269504f;
+  const float n = (y + 12582912.0f) - 12582912.0f;
+  const float f = (y - n) * 0.69314718f;
+  float p = 1.0f / 720.0f;
+  p = p * f + 1.0f / 120.0f;
+  p = p * f + 1.0f / 24.0f;
+  p = p * f + 1.0f / 6.0f;
+  p = p * f + 0.5f;
+  p = p * f + 1.0f;
+  p = p * f + 1.0f;
+  return p * std::bit_cast<float>((static_cast<std::int32_t>(n) + 127) << 23);
 }
 
 double sun_zenith_angle(const Sun& sun) { return std::acos(std::clamp(sun.direction.z(), -1.0, 1.0)); }
@@ -103,17 +139,20 @@ void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::sp
   const IntensityModel model = params_.model;
   detail::for_each_ray_block(rays, [&](const detail::RayBlock& b) {
     float radiance[detail::RayBlock::kSize];
-    for (std::size_t j = 0; j < b.count; ++j) {
-      const float c = std::clamp(b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz, -1.0f, 1.0f);
-      float r = 1.0f;
-      if (model == IntensityModel::rayleigh) {
-        r = 1.0f + c * c;
-      } else if (model == IntensityModel::preetham) {
-        const float ct = std::max(b.dz[j], 1e-4f);
-        const float gamma = std::acos(c);
-        r = norm * (1.0f + pa * std::exp(pb / ct)) * (1.0f + pc * std::exp(pdd * gamma) + pe * c * c);
+    // One branch-free loop per model, so that each vectorizes.
+    if (model == IntensityModel::uniform) {
+      for (std::size_t j = 0; j < b.count; ++j) radiance[j] = 1.0f;
+    } else if (model == IntensityModel::rayleigh) {
+      for (std::size_t j = 0; j < b.count; ++j) {
+        const float c = b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz;
+        radiance[j] = 1.0f + c * c;
       }
-      radiance[j] = r;
+    } else {
+      for (std::size_t j = 0; j < b.count; ++j) {
+        const float c = std::clamp(b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz, -1.0f, 1.0f);
+        const float ct = std::max(b.dz[j], 1e-4f);
+        radiance[j] = norm * (1.0f + pa * exp_approx(pb / ct)) * (1.0f + pc * exp_approx(pdd * acos_approx(c)) + pe * c * c);
+      }
     }
     StokesF* __restrict o = out.data() + b.first;
     for (std::size_t j = 0; j < b.count; ++j) {
