@@ -105,7 +105,8 @@ double sky_radiance(const IntensityParams& params, const Eigen::Vector3d& d, con
     case IntensityModel::rayleigh: radiance = 1.0 + c * c; break;
     case IntensityModel::preetham: {
       const Perez p = preetham_luminance(params.turbidity);
-      radiance = perez(p, d.z(), std::acos(c)) / perez(p, 1.0, sun_zenith_angle(sun));
+      const double gamma = 2.0 * std::asin(std::min(0.5 * (d - sun.direction).norm(), 1.0));  // exact near the sun
+      radiance = perez(p, d.z(), gamma) / perez(p, 1.0, sun_zenith_angle(sun));
       break;
     }
   }
@@ -149,9 +150,14 @@ void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::sp
       }
     } else {
       for (std::size_t j = 0; j < b.count; ++j) {
-        const float c = std::clamp(b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz, -1.0f, 1.0f);
+        const float c = b.dx[j] * sx + b.dy[j] * sy + b.dz[j] * sz;
+        // γ = 2 asin(|d − s|/2): acos(c) loses all precision near the sun in float (slope ∞ at 1),
+        // where Perez's circumsolar term e^{Dγ} is steepest.
+        const float ex = b.dx[j] - sx, ey = b.dy[j] - sy, ez = b.dz[j] - sz;
+        const float half_chord = std::min(0.5f * std::sqrt(ex * ex + ey * ey + ez * ez), 1.0f);
+        const float gamma = 3.14159265f - 2.0f * acos_approx(half_chord);
         const float ct = std::max(b.dz[j], 1e-4f);
-        radiance[j] = norm * (1.0f + pa * exp_approx(pb / ct)) * (1.0f + pc * exp_approx(pdd * acos_approx(c)) + pe * c * c);
+        radiance[j] = norm * (1.0f + pa * exp_approx(pb / ct)) * (1.0f + pc * exp_approx(pdd * gamma) + pe * c * c);
       }
     }
     StokesF* __restrict o = out.data() + b.first;

@@ -111,7 +111,7 @@ TEST_CASE("intensity batch path equals the scalar path", "[intensity][batch]") {
       rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
     }
     // The hard directions too: the sun, the anti-sun, the zenith, the horizon, below it.
-    for (const Eigen::Vector3d& d : {sun.direction, Eigen::Vector3d(-sun.direction), Eigen::Vector3d::UnitZ(),
+    for (const Eigen::Vector3d& d : {sun.direction, Eigen::Vector3d(-sun.direction), Eigen::Vector3d(Eigen::Vector3d::UnitZ()),
                                      enu_direction(1.0, 0.0), enu_direction(2.0, -0.3), Eigen::Vector3d(0, 0, -1)}) {
       rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
     }
