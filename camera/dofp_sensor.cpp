@@ -77,6 +77,8 @@ void validate(const DofpSensor& s) {
   require(std::isfinite(s.dark_current_e_s) && s.dark_current_e_s >= 0, "dark_current_e_s must be >= 0");
   require(std::isfinite(s.full_well_e) && s.full_well_e > 0, "full_well_e must be > 0");
   require(s.adc_bits >= 1 && s.adc_bits <= 16, "adc_bits must be in [1, 16]");
+  for (double k : s.band_response)
+    require(std::isfinite(k) && k > 0, "band_response must be > 0");
 }
 
 double polarizer_radiance(const DofpSensor& s, int row, int col, double s0, double s1, double s2) {
@@ -119,76 +121,96 @@ std::vector<std::uint16_t> simulate_raw(const DofpSensor& s, std::span<const flo
   return raw;
 }
 
-StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw,
-                               Demosaic mode) {
-  validate(s);
-  const int w = s.width, h = s.height;
-  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
-  // Which mosaic position holds 0°, 45°, 90°, 135° (nominal mode).
+namespace {
+
+// Where 0°, 45°, 90°, 135° sit in the mosaic (−1: absent).
+std::array<int, 4> nominal_positions(const DofpSensor& s) {
   std::array<int, 4> pos{-1, -1, -1, -1};
   for (int i = 0; i < 4; ++i) {
     const double a = std::fmod(std::fmod(s.mosaic_deg[i], 180.0) + 180.0, 180.0);
     for (int k = 0; k < 4; ++k)
       if (std::abs(a - 45.0 * k) < 1e-9) pos[k] = i;
   }
+  return pos;
+}
+
+// Least-squares inverse (AᵀA)⁻¹Aᵀ (3 × 4) of the sensor's analyzer A (I = A·S, the coefficients
+// of polarizer_radiance per mosaic position).
+std::array<std::array<double, 4>, 3> analyzer_inverse(const DofpSensor& s) {
+  const double tmin = 1 / s.extinction_ratio;
+  std::array<std::array<double, 3>, 4> a{};
+  for (int i = 0; i < 4; ++i) {
+    const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;
+    a[i] = {0.5 * (1 + tmin), 0.5 * (1 - tmin) * std::cos(2 * th), 0.5 * (1 - tmin) * std::sin(2 * th)};
+  }
+  double ata[3][3] = {};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < 4; ++i) ata[r][c] += a[i][r] * a[i][c];
+  const double det = ata[0][0] * (ata[1][1] * ata[2][2] - ata[1][2] * ata[2][1]) -
+                     ata[0][1] * (ata[1][0] * ata[2][2] - ata[1][2] * ata[2][0]) +
+                     ata[0][2] * (ata[1][0] * ata[2][1] - ata[1][1] * ata[2][0]);
+  if (!(std::abs(det) > 1e-12))
+    throw std::invalid_argument("mosaic_deg: the four polarizer angles do not determine S1 and S2");
+  double ai[3][3];  // inverse by cofactors (symmetric matrix)
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+      ai[r][c] = (ata[r1][c1] * ata[r2][c2] - ata[r1][c2] * ata[r2][c1]) / det;
+    }
+  std::array<std::array<double, 4>, 3> inv{};
+  for (int r = 0; r < 3; ++r)
+    for (int i = 0; i < 4; ++i) inv[r][i] = ai[r][0] * a[i][0] + ai[r][1] * a[i][1] + ai[r][2] * a[i][2];
+  return inv;
+}
+
+// A rectangular sampling lattice: rows oy + period·i, columns ox + period·j.
+struct Lattice {
+  int oy, ox;
+};
+
+// Stokes of one band from a raw mosaic. Mosaic position p's samples lie on the lattices
+// lattices[p] (one for a mono sensor or the R and B of a colour one, two for G); each lattice is
+// interpolated bilinearly (nearest row/column repeated beyond its edge) and the lattices averaged.
+StokesPlanes demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> raw, Demosaic mode,
+                           int period, const std::array<std::vector<Lattice>, 4>& lattices,
+                           double response) {
+  const int w = s.width, h = s.height;
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
+  const std::array<int, 4> pos = nominal_positions(s);
   if (mode == Demosaic::nominal)
     for (int k : pos)
       if (k < 0) throw std::invalid_argument("mosaic_deg must hold 0, 45, 90 and 135");
-  // Calibrated mode: rows of the analyzer matrix A (I = A·S, polarizer_radiance's coefficients)
-  // and its least-squares inverse (AᵀA)⁻¹Aᵀ, 3 × 4.
-  std::array<std::array<double, 4>, 3> inv{};
-  if (mode == Demosaic::calibrated) {
-    const double tmin = 1 / s.extinction_ratio;
-    std::array<std::array<double, 3>, 4> a{};
-    for (int i = 0; i < 4; ++i) {
-      const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;
-      a[i] = {0.5 * (1 + tmin), 0.5 * (1 - tmin) * std::cos(2 * th), 0.5 * (1 - tmin) * std::sin(2 * th)};
-    }
-    double ata[3][3] = {};
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < 4; ++i) ata[r][c] += a[i][r] * a[i][c];
-    // 3×3 inverse by cofactors.
-    const double det = ata[0][0] * (ata[1][1] * ata[2][2] - ata[1][2] * ata[2][1]) -
-                       ata[0][1] * (ata[1][0] * ata[2][2] - ata[1][2] * ata[2][0]) +
-                       ata[0][2] * (ata[1][0] * ata[2][1] - ata[1][1] * ata[2][0]);
-    if (!(std::abs(det) > 1e-12))
-      throw std::invalid_argument("mosaic_deg: the four polarizer angles do not determine S1 and S2");
-    double ai[3][3];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
-        ai[r][c] = (ata[r1][c1] * ata[r2][c2] - ata[r1][c2] * ata[r2][c1]) / det;
-      }
-    for (int r = 0; r < 3; ++r)
-      for (int i = 0; i < 4; ++i)
-        inv[r][i] = ai[r][0] * a[i][0] + ai[r][1] * a[i][1] + ai[r][2] * a[i][2];
-  }
+  const auto inv = mode == Demosaic::calibrated ? analyzer_inverse(s)
+                                                : std::array<std::array<double, 4>, 3>{};
 
   const double t = s.exposure_us * 1e-6;
   const double dark_e = s.dark_current_e_s * t;
-  const double scale = 1 / (s.electrons_per_radiance_s * t);
+  const double scale = 1 / (s.electrons_per_radiance_s * response * t);
   auto radiance = [&](int r, int c) {
     const double dn = raw[static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c];
     return ((dn - s.black_level_dn) / s.gain_dn_per_e - dark_e) * scale;
   };
-  // Bilinear interpolation of the channel at mosaic position p = (oy, ox): its samples sit at
-  // rows oy + 2i, cols ox + 2j; outside them the nearest row/column is repeated.
-  auto channel = [&](int p, int r, int c) {
-    const int oy = p >> 1, ox = p & 1;
-    const int ny = (h - oy + 1) / 2, nx = (w - ox + 1) / 2;
-    const double y = 0.5 * (r - oy), x = 0.5 * (c - ox);
+  auto on_lattice = [&](const Lattice& l, int r, int c) {
+    const int ny = (h - l.oy + period - 1) / period, nx = (w - l.ox + period - 1) / period;
+    const double y = static_cast<double>(r - l.oy) / period, x = static_cast<double>(c - l.ox) / period;
     const int i0 = static_cast<int>(std::floor(y)), j0 = static_cast<int>(std::floor(x));
     const double fy = y - i0, fx = x - j0;
     auto at = [&](int i, int j) {
       i = std::clamp(i, 0, ny - 1);
       j = std::clamp(j, 0, nx - 1);
-      return radiance(oy + 2 * i, ox + 2 * j);
+      return radiance(l.oy + period * i, l.ox + period * j);
     };
     return (1 - fy) * ((1 - fx) * at(i0, j0) + fx * at(i0, j0 + 1)) +
            fy * ((1 - fx) * at(i0 + 1, j0) + fx * at(i0 + 1, j0 + 1));
   };
+  auto channel = [&](int p, int r, int c) {
+    double sum = 0;
+    for (const Lattice& l : lattices[static_cast<std::size_t>(p)]) sum += on_lattice(l, r, c);
+    return sum / static_cast<double>(lattices[static_cast<std::size_t>(p)].size());
+  };
+
   StokesPlanes out;
   out.s0.resize(n);
   out.s1.resize(n);
@@ -198,9 +220,10 @@ StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_
       const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c;
       if (mode == Demosaic::calibrated) {
         std::array<double, 4> v;
-        for (int k = 0; k < 4; ++k) v[k] = channel(k, r, c);
+        for (int k = 0; k < 4; ++k) v[static_cast<std::size_t>(k)] = channel(k, r, c);
         double st[3];
-        for (int q = 0; q < 3; ++q) st[q] = inv[q][0] * v[0] + inv[q][1] * v[1] + inv[q][2] * v[2] + inv[q][3] * v[3];
+        for (int q = 0; q < 3; ++q)
+          st[q] = inv[q][0] * v[0] + inv[q][1] * v[1] + inv[q][2] * v[2] + inv[q][3] * v[3];
         out.s0[i] = static_cast<float>(st[0]);
         out.s1[i] = static_cast<float>(st[1]);
         out.s2[i] = static_cast<float>(st[2]);
@@ -212,6 +235,70 @@ StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_
       out.s1[i] = static_cast<float>(i0 - i90);
       out.s2[i] = static_cast<float>(i45 - i135);
     }
+  return out;
+}
+
+// Colour blocks of an RGGB-of-2×2-blocks filter: (block row, block col) parities per band.
+const std::array<std::vector<std::pair<int, int>>, 3> kBandBlocks = {{
+    {{0, 0}},          // R
+    {{0, 1}, {1, 0}},  // G
+    {{1, 1}},          // B
+}};
+
+}  // namespace
+
+StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw,
+                               Demosaic mode) {
+  validate(s);
+  if (s.color_filter != ColorFilter::none)
+    throw std::invalid_argument("color_filter: a colour sensor needs demosaic_color_bilinear");
+  std::array<std::vector<Lattice>, 4> lattices;
+  for (int p = 0; p < 4; ++p) lattices[static_cast<std::size_t>(p)] = {Lattice{p >> 1, p & 1}};
+  return demosaic_core(s, raw, mode, 2, lattices, 1.0);
+}
+
+int band_of_pixel(const DofpSensor& s, int row, int col) {
+  if (s.color_filter == ColorFilter::none) return -1;
+  const int by = (row >> 1) & 1, bx = (col >> 1) & 1;
+  return by == bx ? (by == 0 ? 0 : 2) : 1;
+}
+
+std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& s, const std::array<BandStokes, 3>& rgb,
+                                              std::uint64_t frame) {
+  validate(s);
+  if (s.color_filter == ColorFilter::none)
+    throw std::invalid_argument("color_filter: simulate_raw_color needs a colour sensor (rggb_blocks)");
+  const auto n = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
+  for (const auto& b : rgb)
+    if (b.s0.size() != n || b.s1.size() != n || b.s2.size() != n)
+      throw std::invalid_argument("Stokes images must hold width*height values");
+  std::vector<std::uint16_t> raw(n);
+  for (int r = 0; r < s.height; ++r)
+    for (int c = 0; c < s.width; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.width) + c;
+      const auto b = static_cast<std::size_t>(band_of_pixel(s, r, c));
+      const double k = s.band_response[b];
+      raw[i] = simulate_pixel(s, r, c, k * double{rgb[b].s0[i]}, k * double{rgb[b].s1[i]},
+                              k * double{rgb[b].s2[i]}, frame);
+    }
+  return raw;
+}
+
+std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& s,
+                                                    std::span<const std::uint16_t> raw,
+                                                    Demosaic mode) {
+  validate(s);
+  if (s.color_filter == ColorFilter::none)
+    throw std::invalid_argument("color_filter: demosaic_color_bilinear needs a colour sensor (rggb_blocks)");
+  if (s.width < 4 || s.height < 4) throw std::invalid_argument("a colour sensor needs width, height >= 4");
+  std::array<StokesPlanes, 3> out;
+  for (std::size_t b = 0; b < 3; ++b) {
+    std::array<std::vector<Lattice>, 4> lattices;
+    for (int p = 0; p < 4; ++p)
+      for (const auto& [by, bx] : kBandBlocks[b])
+        lattices[static_cast<std::size_t>(p)].push_back(Lattice{2 * by + (p >> 1), 2 * bx + (p & 1)});
+    out[b] = demosaic_core(s, raw, mode, 4, lattices, s.band_response[b]);
+  }
   return out;
 }
 

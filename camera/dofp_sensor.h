@@ -14,8 +14,16 @@
 
 namespace skypol::camera {
 
+// Colour polarization sensors (IMX250MYR) put an RGGB Bayer filter over the 2×2 polarizer
+// blocks: block (row/2, col/2) is R when both are even, B when both are odd, G otherwise
+// (block order as polanalyser describes the IMX250MYR; nominal, check your camera's pixel format).
+enum class ColorFilter { none, rggb_blocks };
+
 struct DofpSensor {
   int width = 0, height = 0;
+  ColorFilter color_filter = ColorFilter::none;
+  // Colour sensors: relative response of the R, G, B pixels (multiplies electrons_per_radiance_s).
+  std::array<double, 3> band_response = {1, 1, 1};
   // Polarizer angle (degrees) of the pixels at (row mod 2, col mod 2), in the order
   // {(0,0), (0,1), (1,0), (1,1)}: the IMX250MZR's 90° 45° over 135° 0°. Angles are in skypol's
   // sensor convention (from +x towards +y, i.e. clockwise as displayed with rows going down).
@@ -70,7 +78,23 @@ struct StokesPlanes {
   std::vector<float> s0, s1, s2;
 };
 enum class Demosaic { nominal, calibrated };
+// Mono sensors only (color_filter none).
 StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
                                Demosaic mode = Demosaic::nominal);
+
+// Colour sensors (color_filter rggb_blocks). band_of_pixel: 0 = R, 1 = G, 2 = B (−1 for mono).
+int band_of_pixel(const DofpSensor& sensor, int row, int col);
+struct BandStokes {
+  std::span<const float> s0, s1, s2;
+};
+// Raw mosaic from R, G, B Stokes images (each pixel reads its own band, scaled by band_response).
+std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& sensor,
+                                              const std::array<BandStokes, 3>& rgb,
+                                              std::uint64_t frame);
+// R, G, B Stokes images: per band and polarizer, bilinear on the band's 4-pixel lattice (G: the
+// mean of its two lattices), then as demosaic_bilinear.
+std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& sensor,
+                                                    std::span<const std::uint16_t> raw,
+                                                    Demosaic mode = Demosaic::nominal);
 
 }  // namespace skypol::camera

@@ -34,6 +34,12 @@ DofpSensor imx250_dofp() {
   return s;
 }
 
+DofpSensor imx250myr_dofp() {
+  DofpSensor s = imx250_dofp();
+  s.color_filter = ColorFilter::rggb_blocks;  // band_response {1, 1, 1}: nominal
+  return s;
+}
+
 const std::array<SensorPreset, 2> kSensors = {{
     {"sony_imx250mzr", 2448, 2048, 3.45, imx250_dofp(),
      "Sony IMX250MZR (mono polarization, e.g. Lucid PHX050S-P): 2448 × 2048 effective pixels of "
@@ -42,11 +48,11 @@ const std::array<SensorPreset, 2> kSensors = {{
      "(max)\"). Nominal, not from a datasheet: read noise 2.3 e-, dark current 3 e-/s, "
      "extinction ratio 100 (wire-grid micro-polarizers vary with wavelength and incidence angle; "
      "calibrate, e.g. Hagen et al., Opt. Eng. 58(8) 082408, 2019)."},
-    {"lucid_phx050s_qc", 2448, 2048, 3.45, imx250_dofp(),
+    {"lucid_phx050s_qc", 2448, 2048, 3.45, imx250myr_dofp(),
      "Lucid PHX050S-QC, the camera of SkyPole (PNAS 2023, SI), whose sensor is the colour "
-     "IMX250MYR: same geometry and polarizer layout as the IMX250MZR; skypol simulates it as the "
-     "mono sensor (its Bayer filter over the 2×2 polarizer blocks is not modelled); noise figures "
-     "as sony_imx250mzr (nominal)."},
+     "IMX250MYR: same geometry and polarizer layout as the IMX250MZR, with an RGGB Bayer filter "
+     "over the 2×2 polarizer blocks (color_filter rggb_blocks; equal band responses, nominal); "
+     "noise figures as sony_imx250mzr (nominal)."},
 }};
 
 template <class T>

@@ -219,3 +219,48 @@ TEST_CASE("calibrated demosaic undoes extinction ratio and angle errors", "[sens
   CHECK(std::abs(aolp_nom - 20) > 0.1);
   CHECK(0.5 * std::atan2(double{cal.s2[i]}, double{cal.s1[i]}) / kDeg == Approx(20).margin(0.02));
 }
+
+TEST_CASE("colour DoFP (IMX250MYR): RGGB over polarizer blocks, per-band Stokes recovered", "[sensor]") {
+  DofpSensor s = clean(64, 48);
+  s.color_filter = ColorFilter::rggb_blocks;
+  s.band_response = {0.8, 1.0, 0.6};
+  // Block (0,0) red, (0,1) and (1,0) green, (1,1) blue; a block is 2×2 pixels.
+  CHECK(band_of_pixel(s, 0, 0) == 0);
+  CHECK(band_of_pixel(s, 1, 1) == 0);
+  CHECK(band_of_pixel(s, 0, 2) == 1);
+  CHECK(band_of_pixel(s, 2, 1) == 1);
+  CHECK(band_of_pixel(s, 3, 3) == 2);
+  CHECK(band_of_pixel(s, 4, 4) == 0);
+  // Different Stokes per band, linear in the column (bilinear on 4-pixel lattices stays exact).
+  const auto n = static_cast<std::size_t>(s.width * s.height);
+  std::array<std::vector<float>, 9> planes;
+  for (auto& v : planes) v.resize(n);
+  for (int r = 0; r < s.height; ++r)
+    for (int c = 0; c < s.width; ++c) {
+      const auto i = static_cast<std::size_t>(r * s.width + c);
+      for (std::size_t b = 0; b < 3; ++b) {
+        planes[3 * b][i] = static_cast<float>(0.5 + 0.2 * static_cast<double>(b) + 0.004 * c);
+        planes[3 * b + 1][i] = static_cast<float>(0.1 * static_cast<double>(b + 1) - 0.001 * r);
+        planes[3 * b + 2][i] = static_cast<float>(-0.05 * static_cast<double>(b));
+      }
+    }
+  std::array<BandStokes, 3> rgb;
+  for (std::size_t b = 0; b < 3; ++b) rgb[b] = {planes[3 * b], planes[3 * b + 1], planes[3 * b + 2]};
+  const auto raw = simulate_raw_color(s, rgb, 0);
+  // Pixel (1,1): red block, 0° polarizer: ½(S0 + S1)·0.8·4000 DN.
+  const auto i11 = static_cast<std::size_t>(s.width + 1);
+  CHECK(raw[i11] == std::lround(0.5 * (double{planes[0][i11]} + double{planes[1][i11]}) * 0.8 * 4000));
+  const auto st = demosaic_color_bilinear(s, raw);
+  for (int r = 4; r < s.height - 4; ++r)
+    for (int c = 4; c < s.width - 4; ++c) {
+      const auto i = static_cast<std::size_t>(r * s.width + c);
+      for (std::size_t b = 0; b < 3; ++b) {
+        INFO("band " << b << " r " << r << " c " << c);
+        REQUIRE(st[b].s0[i] == Approx(planes[3 * b][i]).margin(1e-3));
+        REQUIRE(st[b].s1[i] == Approx(planes[3 * b + 1][i]).margin(1e-3));
+        REQUIRE(st[b].s2[i] == Approx(planes[3 * b + 2][i]).margin(1e-3));
+      }
+    }
+  CHECK_THROWS_WITH(demosaic_bilinear(s, raw), Catch::Contains("demosaic_color_bilinear"));
+  CHECK_THROWS_WITH(simulate_raw_color(clean(), rgb, 0), Catch::Contains("colour sensor"));
+}

@@ -40,3 +40,10 @@ TEST_CASE("IMX250MZR sensor preset: geometry, layout, 12-bit full scale at full 
   CHECK_THROWS_WITH(sensor_preset("imx999"), Catch::Contains("sony_imx250mzr") && Catch::Contains("imx999"));
   CHECK_THROWS_WITH(lens_preset("nikkor"), Catch::Contains("fujinon_fe185c057ha1"));
 }
+
+TEST_CASE("SkyPole's PHX050S-QC is the colour IMX250MYR: RGGB over the polarizer blocks", "[presets]") {
+  const auto& s = sensor_preset("lucid_phx050s_qc");
+  CHECK(s.dofp.color_filter == ColorFilter::rggb_blocks);
+  CHECK(sensor_preset("sony_imx250mzr").dofp.color_filter == ColorFilter::none);
+  CHECK(band_of_pixel(s.dofp, 3, 3) == 2);  // blue block: the band the SkyPole paper used
+}
