@@ -23,6 +23,7 @@
 
 #include <erfa.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -113,6 +114,22 @@ Sun sun_position(const Site& site, Instant t, const SunOptions& options) {
   sun.declination = dob;
   sun.hour_angle = wrap_pm_pi(hob);
   sun.direction = enu_direction(sun.azimuth, sun.elevation);
+  return sun;
+}
+
+Sun sun_from_horizontal(double azimuth, double elevation, double latitude_deg) {
+  require(std::isfinite(azimuth) && std::isfinite(elevation), "sun azimuth and elevation must be finite");
+  const Eigen::Vector3d ncp = north_celestial_pole(latitude_deg);  // checks the latitude
+  Sun sun;
+  sun.azimuth = wrap_2pi(azimuth);
+  sun.elevation = std::clamp(elevation, -kPi / 2, kPi / 2);
+  sun.direction = enu_direction(sun.azimuth, sun.elevation);
+  // SI eq. 1: E = −cos δ sin ω, and cos δ cos ω = Z cos φ − N sin φ; sin δ = S·NCP.
+  const double phi = latitude_deg * kDeg;
+  const Eigen::Vector3d& s = sun.direction;
+  const double cos_dec_cos_ha = s.z() * std::cos(phi) - s.y() * std::sin(phi);
+  sun.declination = std::atan2(s.dot(ncp), std::hypot(s.x(), cos_dec_cos_ha));
+  sun.hour_angle = (s.x() == 0.0 && cos_dec_cos_ha == 0.0) ? 0.0 : wrap_pm_pi(std::atan2(-s.x(), cos_dec_cos_ha));
   return sun;
 }
 

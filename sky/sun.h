@@ -48,6 +48,12 @@ struct Sun {
 // At a pole the azimuth follows ERFA's rule: "north" is the limit along the site's meridian.
 Sun sun_position(const Site& site, Instant t, const SunOptions& options = {});
 
+// A sun placed by hand (scenes that fix the sun instead of a time, hard cases such as a sun at
+// the zenith): azimuth and elevation in radians, latitude in degrees. Declination and hour angle
+// follow from SkyPole's SI eq. 1 inverted, so the Sun is as self-consistent as sun_position's.
+// Throws std::invalid_argument for a latitude outside [−90°, 90°] or non-finite angles.
+Sun sun_from_horizontal(double azimuth, double elevation, double latitude_deg);
+
 // ENU unit vector from azimuth (from North towards East) and elevation, radians; and back.
 Eigen::Vector3d enu_direction(double azimuth, double elevation);
 double azimuth_of(const Eigen::Vector3d& enu);    // [0, 2π); 0 for the zenith (documented rule)

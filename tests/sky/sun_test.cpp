@@ -191,6 +191,25 @@ TEST_CASE("the sun at the zenith of the subsolar point is finite and overhead", 
   }
 }
 
+TEST_CASE("a sun placed by azimuth and elevation gets the declination and hour angle ERFA gives", "[sun]") {
+  for (const Site& site : {Site{43.286987, 5.4032786, 50}, Site{-33.8688, 151.2093, 0}, Site{0, 0, 0}, Site{90, 0, 0}}) {
+    for (int h = 0; h < 24; h += 3) {
+      const Sun e = sun_position(site, Instant{parse_iso8601("2024-02-10T00:00:00Z").unix_seconds + 3600.0 * h});
+      const Sun m = sun_from_horizontal(e.azimuth, e.elevation, site.latitude_deg);
+      INFO("lat " << site.latitude_deg << " hour " << h);
+      CHECK(m.declination == Approx(e.declination).margin(1e-9));
+      if (std::abs(site.latitude_deg) < 90) {  // at a pole the hour angle depends on the azimuth rule
+        CHECK(std::abs(std::remainder(m.hour_angle - e.hour_angle, 2 * kPi)) < 1e-9);
+      }
+      CHECK((m.direction - e.direction).norm() < 1e-12);
+    }
+  }
+  const Sun zenith = sun_from_horizontal(0.3, kPi / 2, 20.0);  // overhead: δ = φ, ω = 0
+  CHECK(deg(zenith.declination) == Approx(20.0).margin(1e-9));
+  CHECK(std::abs(zenith.hour_angle) < 1e-9);
+  CHECK_THROWS_WITH(sun_from_horizontal(0, 0, 95), Catch::Contains("latitude"));
+}
+
 TEST_CASE("ENU helpers: azimuth from North towards East, elevation above the horizon", "[sun]") {
   CHECK((enu_direction(0, 0) - Eigen::Vector3d(0, 1, 0)).norm() < 1e-15);          // North
   CHECK((enu_direction(kPi / 2, 0) - Eigen::Vector3d(1, 0, 0)).norm() < 1e-15);    // East
