@@ -155,6 +155,58 @@ TEST_CASE("bad fields: std::invalid_argument naming the field and the legal valu
   CHECK(error_of(SkySpec{}).empty());
 }
 
+TEST_CASE("every configuration keeps the contract at the hard points", "[sky_spec][hard]") {
+  // Finite, S0 > 0, 0 ≤ DoLP ≤ 1, S3 = 0, batch = scalar — for each pattern × radiance × clouds ×
+  // disc, with the sun at the zenith, on and below the horizon and at the nadir, looking at the
+  // zenith, nadir, horizon, sun and anti-sun in odd bases.
+  std::vector<Sun> suns = {sun_at(0, 90), sun_at(75, 0), sun_at(200, -8), sun_at(10, -90), sun_at(300, 33)};
+  for (const char* model : {"rayleigh", "berry"}) {
+    for (const char* intensity : {"uniform", "rayleigh", "preetham"}) {
+      for (double coverage : {0.0, 0.5}) {
+        for (bool disc : {false, true}) {
+          SkySpec spec;
+          spec.model = model;
+          spec.intensity = intensity;
+          spec.clouds.coverage = coverage;
+          spec.sun_disc = disc;
+          spec.max_dolp = 0.9;
+          const auto sky = make_sky(spec);
+          for (const Sun& sun : suns) {
+            std::vector<Eigen::Vector3d> dirs = {Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ(),
+                                                 enu_direction(1.0, 0.0), sun.direction, -sun.direction,
+                                                 enu_direction(4.0, -0.2), enu_direction(2.5, 1.2)};
+            std::vector<ViewRay> rays;
+            std::vector<Stokes> ref;
+            for (const Eigen::Vector3d& d : dirs) {
+              const Eigen::Vector3d a = std::abs(d.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+              const Eigen::Vector3d e0 = (a - a.dot(d) * d).normalized();
+              const Stokes st = sky->stokes(d, e0, sun);
+              INFO(model << " " << intensity << " clouds " << coverage << " disc " << disc << " sun el "
+                         << sun.elevation / kDeg << " d " << d.transpose());
+              CHECK(std::isfinite(st.s0));
+              CHECK(std::isfinite(st.s1));
+              CHECK(std::isfinite(st.s2));
+              CHECK(st.s0 > 0);
+              CHECK(st.s3 == 0.0);
+              CHECK(st.dolp() <= 1.0);
+              rays.push_back({d.cast<float>(), e0.cast<float>()});
+              ref.push_back(st);
+            }
+            std::vector<StokesF> out(rays.size());
+            sky->stokes(rays, sun, out);
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+              INFO(model << " " << intensity << " clouds " << coverage << " disc " << disc << " ray " << i);
+              CHECK(out[i].s0 == Approx(ref[i].s0).epsilon(3e-5));
+              CHECK(std::abs(static_cast<double>(out[i].s1) - ref[i].s1) <= 3e-5 * ref[i].s0);
+              CHECK(std::abs(static_cast<double>(out[i].s2) - ref[i].s2) <= 3e-5 * ref[i].s0);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST_CASE("batch throughput of every configuration (informational)", "[.][benchmark]") {
   std::vector<ViewRay> rays;
   for (int i = 0; i < 1 << 16; ++i) {
