@@ -76,6 +76,8 @@ void validate(const DofpSensor& s) {
   require(std::isfinite(s.read_noise_e) && s.read_noise_e >= 0, "read_noise_e must be >= 0");
   require(std::isfinite(s.dark_current_e_s) && s.dark_current_e_s >= 0, "dark_current_e_s must be >= 0");
   require(std::isfinite(s.full_well_e) && s.full_well_e > 0, "full_well_e must be > 0");
+  require(std::isfinite(s.prnu_rms) && s.prnu_rms >= 0, "prnu_rms must be >= 0");
+  require(std::isfinite(s.dsnu_e) && s.dsnu_e >= 0, "dsnu_e must be >= 0");
   require(s.adc_bits >= 1 && s.adc_bits <= 16, "adc_bits must be in [1, 16]");
   for (double k : s.band_response)
     require(std::isfinite(k) && k > 0, "band_response must be > 0");
@@ -93,11 +95,19 @@ std::uint16_t simulate_pixel(const DofpSensor& s, int row, int col, double s0, d
   double radiance = polarizer_radiance(s, row, col, s0, s1, s2);
   if (!std::isfinite(radiance) || radiance < 0) radiance = 0;  // masked or unphysical input
   const double t = s.exposure_us * 1e-6;
-  const double mean_e = radiance * s.electrons_per_radiance_s * t + s.dark_current_e_s * t;
   const auto pixel = static_cast<std::uint64_t>(row) * static_cast<std::uint64_t>(s.width) +
                      static_cast<std::uint64_t>(col);
+  // Fixed pattern: a per-pixel draw keyed without the frame, so every frame sees the same one.
+  double response = 1, offset_e = 0;
+  if (s.prnu_rms > 0 || s.dsnu_e > 0) {
+    PixelRandom fixed(mix(s.seed ^ 0xF1C5ED9A77E2B3D1ULL), 0, pixel);
+    response = std::max(0.0, 1 + s.prnu_rms * fixed.normal());
+    offset_e = s.dsnu_e * fixed.normal();
+  }
+  const double mean_e = radiance * s.electrons_per_radiance_s * response * t + s.dark_current_e_s * t;
   PixelRandom rng(s.seed, frame, pixel);
   double e = s.shot_noise ? rng.poisson(mean_e) : mean_e;
+  e = std::max(0.0, e + offset_e);
   e = std::min(e, s.full_well_e);
   if (s.read_noise_e > 0) e += s.read_noise_e * rng.normal();
   const double max_dn = std::ldexp(1.0, s.adc_bits) - 1;

@@ -46,6 +46,9 @@ struct DofpSensor {
   double full_well_e = 10500;     // the pixel saturates here
   int adc_bits = 12;              // output 0 .. 2^bits − 1 DN
   bool shot_noise = true;         // Poisson photon and dark-current noise
+  // Fixed-pattern noise, the same in every frame of a seed (keyed by seed and pixel only):
+  double prnu_rms = 0;            // photo-response non-uniformity, relative rms (e.g. 0.01)
+  double dsnu_e = 0;              // dark-signal non-uniformity, rms fixed offset in electrons
   std::uint64_t seed = 0;
 };
 

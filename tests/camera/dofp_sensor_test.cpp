@@ -264,3 +264,25 @@ TEST_CASE("colour DoFP (IMX250MYR): RGGB over polarizer blocks, per-band Stokes 
   CHECK_THROWS_WITH(demosaic_bilinear(s, raw), Catch::Contains("demosaic_color_bilinear"));
   CHECK_THROWS_WITH(simulate_raw_color(clean(), rgb, 0), Catch::Contains("colour sensor"));
 }
+
+TEST_CASE("fixed-pattern noise: same in every frame, PRNU rms as asked", "[sensor]") {
+  DofpSensor s = clean(200, 200);
+  s.prnu_rms = 0.02;
+  s.seed = 5;
+  const Field f = uniform(s, 1, 0, 0);  // 2000 e behind every polarizer
+  const auto a = simulate_raw(s, f.s0, f.s1, f.s2, 0);
+  CHECK(a == simulate_raw(s, f.s0, f.s1, f.s2, 1));  // no temporal noise: frames identical
+  const auto [mean, var] = stats(a, s, 3);
+  CHECK(mean == Approx(2000).epsilon(0.002));
+  CHECK(std::sqrt(var) == Approx(0.02 * 2000).epsilon(0.05));  // 40 DN rms over 10^4 pixels
+  s.seed = 6;
+  CHECK(a != simulate_raw(s, f.s0, f.s1, f.s2, 0));  // another camera, another pattern
+  s.prnu_rms = 0;
+  s.dsnu_e = 3;
+  const auto d = simulate_raw(s, f.s0, f.s1, f.s2, 0);
+  const auto [dmean, dvar] = stats(d, s, 0);
+  CHECK(dmean == Approx(2000).epsilon(0.002));
+  CHECK(std::sqrt(dvar) == Approx(3).epsilon(0.08));
+  s.dsnu_e = -1;
+  CHECK_THROWS_WITH(validate(s), "dsnu_e must be >= 0");
+}
