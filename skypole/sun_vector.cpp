@@ -1,0 +1,158 @@
+// Sun from AoLP, pole from the sun's path or from the ephemeris (sun_vector.h).
+#include "skypole/sun_vector.h"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include "camera/camera.h"
+#include "sky/sun.h"
+
+namespace skypol::skypole {
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+}  // namespace
+
+PoleFromSun parse_pole_from_sun(std::string_view name) {
+  if (name == "circle") return PoleFromSun::circle;
+  if (name == "ephemeris") return PoleFromSun::ephemeris;
+  throw std::invalid_argument("unknown sun-vector mode \"" + std::string(name) +
+                              "\" (expected one of circle, ephemeris)");
+}
+
+std::string_view pole_from_sun_name(PoleFromSun m) {
+  return m == PoleFromSun::circle ? "circle" : "ephemeris";
+}
+
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const std::vector<float>& aolp,
+                                             const camera::Camera& camera, double min_dolp,
+                                             double* quality) {
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  int used = 0;
+  const bool meridional = camera.transport() == camera::Transport::meridional;
+  for (std::size_t i = 0; i < sky.pixels(); ++i) {
+    if (!sky.valid[i]) continue;
+    const double p = dolp[i];
+    if (!(p >= min_dolp) || !std::isfinite(aolp[i])) continue;
+    const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
+    const double a = aolp[i];
+    Eigen::Vector3d e;
+    if (meridional) {
+      const Eigen::Vector3d e0 = camera::meridional_e0(d);
+      e = std::cos(a) * e0 + std::sin(a) * d.cross(e0);
+    } else {
+      if (std::abs(d.z()) < 1e-3) continue;  // E along the axis: the sensor angle says nothing
+      e = Eigen::Vector3d(std::cos(a), std::sin(a), -(std::cos(a) * d.x() + std::sin(a) * d.y()) / d.z());
+      e.normalize();
+    }
+    c += p * p * e * e.transpose();
+    ++used;
+  }
+  if (used < 10) return std::nullopt;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(c);
+  Eigen::Vector3d s = es.eigenvectors().col(0).normalized();
+  if ((sky.level_from_camera * s).z() < 0) s = -s;
+  if (quality) *quality = es.eigenvalues()(1) > 0 ? es.eigenvalues()(0) / es.eigenvalues()(1) : 1.0;
+  return s;
+}
+
+SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorParams& params) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const char* method = "sun_vector";
+  const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
+  const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
+  const auto aolp = aolp_channels(stack, sky, method);
+  SunVectorResult result;
+  const auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  };
+  const auto fail = [&](std::string why) {
+    result.estimate = invalid_estimate(method, std::move(why));
+    result.estimate.seconds = seconds();
+    return result;
+  };
+
+  std::vector<std::optional<Eigen::Vector3d>> suns;
+  double mean_q = 0;
+  for (std::size_t t = 0; t < sky.frames(); ++t) {
+    double q = 1;
+    const auto s = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &q);
+    if (!s) return fail("frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
+                        std::to_string(params.min_dolp) + ") to find the sun from the AoLP");
+    suns.push_back(s);
+    result.suns_camera.push_back(*s);
+    result.sun_quality.push_back(q);
+    mean_q += q / static_cast<double>(sky.frames());
+  }
+
+  if (params.mode == PoleFromSun::ephemeris) {
+    const sky::Site site = params.site.value_or(stack.frames.front().truth.site);
+    double sx = 0, sy = 0, sq = 0;
+    std::vector<Eigen::Vector3d> enu;
+    for (std::size_t t = 0; t < sky.frames(); ++t) {
+      enu.push_back(sky::sun_position(site, stack.frames[t].truth.time).direction);
+      const Eigen::Vector3d l = sky.level_from_camera * result.suns_camera[t];
+      const double d = std::atan2(enu[t].x(), enu[t].y()) - std::atan2(l.x(), l.y());
+      sx += std::cos(d);
+      sy += std::sin(d);
+    }
+    if (std::hypot(sx, sy) < 1e-9) return fail("the suns' azimuths give no heading");
+    const double psi = std::atan2(sy, sx);  // world = Rz(−ψ)·level
+    const Eigen::Matrix3d world_from_level =
+        Eigen::AngleAxisd(-psi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    for (std::size_t t = 0; t < sky.frames(); ++t) {
+      const Eigen::Vector3d w = world_from_level * sky.level_from_camera * result.suns_camera[t];
+      const double a = std::atan2(w.cross(enu[t]).norm(), w.dot(enu[t]));
+      sq += a * a;
+    }
+    const double lat = site.latitude_deg * kDeg;
+    const Eigen::Vector3d ncp_world(0, std::cos(lat), std::sin(lat));
+    const Eigen::Vector3d ncp = sky.level_from_camera.transpose() * world_from_level.transpose() * ncp_world;
+    result.estimate = make_estimate(method, sky, ncp, params.input);
+    result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
+                            std::string("ephemeris mode: latitude is the given site's");
+    result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kDeg;
+    result.estimate.confidence = std::clamp(1 - mean_q, 0.0, 1.0);
+    result.estimate.seconds = seconds();
+    return result;
+  }
+
+  // Circle: s_t·p = a + b·τ_t.
+  const double span_h = (sky.times_s.back() - sky.times_s.front()) / 3600.0;
+  const bool linear = params.detrend == Detrend::linear ||
+                      (params.detrend == Detrend::automatic && sky.times_known &&
+                       span_h >= params.auto_detrend_min_hours && sky.frames() >= 5);
+  const auto n = static_cast<Eigen::Index>(sky.frames());
+  Eigen::MatrixXd x(n, linear ? 2 : 1), s(n, 3);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    x(t, 0) = 1;
+    if (linear) x(t, 1) = sky.times_s[static_cast<std::size_t>(t)] / std::max(1.0, sky.times_s.back());
+    s.row(t) = result.suns_camera[static_cast<std::size_t>(t)].transpose();
+  }
+  const Eigen::MatrixXd xtx = x.transpose() * x;
+  const Eigen::MatrixXd h = Eigen::MatrixXd::Identity(n, n) - x * xtx.ldlt().solve(x.transpose());
+  const Eigen::Matrix3d c = s.transpose() * h * s;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(c);
+  Eigen::Vector3d p = es.eigenvectors().col(0).normalized();
+  if (!(es.eigenvalues()(1) > 1e-14))
+    return fail("the suns do not span an arc: they are too few or too close together");
+  if ((sky.level_from_camera * p).z() < 0) p = -p;
+  const HemisphereDecision hemi = decide_hemisphere(suns, p, params.input.hemisphere);
+  if (!hemi.ok) return fail(hemi.why);
+  result.estimate = make_estimate(method, sky, hemi.is_north ? p : Eigen::Vector3d(-p), params.input);
+  result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
+                          std::string("hemisphere from ") + hemi.source;
+  const Eigen::VectorXd r = h * (s * p);
+  result.estimate.residual_deg = std::sqrt(r.squaredNorm() / static_cast<double>(n)) / kDeg;
+  result.estimate.confidence = std::clamp(1 - mean_q, 0.0, 1.0);
+  result.estimate.seconds = seconds();
+  return result;
+}
+
+}  // namespace skypol::skypole

@@ -1,0 +1,62 @@
+// The sun-vector baseline: the sun's direction in each frame from the AoLP (single scattering
+// polarizes ⟂ the scattering plane, so every E-vector is ⟂ the sun: the sun is the direction most
+// nearly ⟂ all of them), then the pole from the sun's path.
+//
+// Sun per frame: s = the eigenvector of the smallest eigenvalue of Σ w E Eᵀ over the valid pixels
+// with DoLP ≥ min_dolp, w = DoLP² (the angle's noise scales as 1/DoLP), E the unit E-vector in the
+// camera frame from the sensor AoLP through the camera's transport (meridional: E = cos a·e0 +
+// sin a·d×e0 with e0 = camera::meridional_e0(d); projected: E ⟂ d with the sensor-plane angle a);
+// the sign with the sun above the horizon.
+// Pole, PoleFromSun::circle (no ephemeris, no site): the sun turns about the pole at declination
+// δ, s_t·p = sin δ_t; p minimises Σ (s_t·p − a − b·τ_t)² (b, the declination drift, only with the
+// linear detrend, automatic for windows ≥ 4 h), i.e. the smallest eigenvector of Sᵀ H S with H the
+// projector that removes the fitted terms. North from the sun's rotation (estimate.h).
+// Pole, PoleFromSun::ephemeris (the classic baseline of the literature): the site and the frame
+// times are taken as known, ERFA gives each sun's ENU direction; the heading is the circular mean
+// of (true sun azimuth − level-frame sun azimuth), and the pole is the site's true pole placed
+// with that heading. Its latitude is the site's, by construction: only its bearing is a result.
+// residual_deg: RMS angle between the suns and the fitted cone (circle) or between the measured
+// and the ephemeris suns after the heading (ephemeris); confidence: 1 − mean λ0/λ1 of the sun fits.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "render/frame.h"
+#include "skypole/estimate.h"
+#include "skypole/invariance.h"  // Detrend
+#include "skypole/sky_images.h"
+
+namespace skypol::skypole {
+
+enum class PoleFromSun { circle, ephemeris };
+PoleFromSun parse_pole_from_sun(std::string_view name);  // "circle" | "ephemeris"
+std::string_view pole_from_sun_name(PoleFromSun m);
+
+struct SunVectorParams {
+  InputOptions input;
+  PoleFromSun mode = PoleFromSun::circle;
+  std::optional<sky::Site> site;  // ephemeris mode; nullopt → frame 0's truth site
+  Detrend detrend = Detrend::automatic;
+  double auto_detrend_min_hours = 4.0;
+  double min_dolp = 0.05;
+};
+
+struct SunVectorResult {
+  PoleEstimate estimate;
+  std::vector<Eigen::Vector3d> suns_camera;  // per frame, unit, above the horizon
+  std::vector<double> sun_quality;           // λ0/λ1 per frame (small = clear)
+};
+
+// The sun in one frame from its AoLP (see above); nullopt if too few polarized pixels.
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const std::vector<float>& aolp,
+                                             const camera::Camera& camera, double min_dolp,
+                                             double* quality = nullptr);
+
+// Needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
+SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorParams& params = {});
+
+}  // namespace skypol::skypole

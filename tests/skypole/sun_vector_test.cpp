@@ -1,0 +1,95 @@
+// The sun-vector baseline (AoLP ⟂ sun) on synthetic Rayleigh stacks.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <iostream>
+
+#include <Eigen/Geometry>
+
+#include "skypole/sun_vector.h"
+#include "synthetic_stack.h"
+
+using namespace skypol;
+
+namespace {
+
+testing::SyntheticSpec paper_spec(double heading) {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.heading_deg = heading;
+  return spec;
+}
+
+skypole::Score run(const render::Stack& stack, const skypole::SunVectorParams& p,
+                   const std::string& label, skypole::SunVectorResult* out = nullptr) {
+  const skypole::SunVectorResult r = skypole::estimate_sun_vector(stack, p);
+  INFO(label << ": " << r.estimate.why_invalid);
+  REQUIRE(r.estimate.valid);
+  const skypole::Score s = skypole::score(r.estimate, stack.frames.front().truth);
+  std::cout << "sun_vector " << label << ": bearing err "
+            << (s.bearing_error_deg ? *s.bearing_error_deg : std::nan("")) << "°, latitude err "
+            << s.latitude_error_deg << "°, angular err " << s.angular_error_deg << "°, residual "
+            << r.estimate.residual_deg << "°, " << r.estimate.seconds << " s\n";
+  if (out) *out = r;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("AoLP gives the sun: every E-vector is perpendicular to it", "[skypole][sun_vector]") {
+  const render::Stack stack = testing::make_stack(paper_spec(37));
+  skypole::SunVectorResult r;
+  run(stack, {}, "Marseille circle", &r);
+  for (std::size_t t = 0; t < stack.frames.size(); ++t) {
+    const Eigen::Vector3d truth =
+        stack.frames[t].truth.world_from_camera.transpose() * stack.frames[t].truth.sun.direction;
+    const double err = std::atan2(truth.cross(r.suns_camera[t]).norm(), truth.dot(r.suns_camera[t]));
+    CHECK(err * 180 / 3.14159265358979 < 0.01);
+  }
+}
+
+TEST_CASE("sun-vector circle and ephemeris modes find the pole", "[skypole][sun_vector]") {
+  for (double heading : {0.0, 200.0}) {
+    const render::Stack stack = testing::make_stack(paper_spec(heading));
+    const skypole::Score c = run(stack, {}, "circle heading " + std::to_string(heading));
+    CHECK(c.angular_error_deg < 0.05);
+    skypole::SunVectorParams p;
+    p.mode = skypole::PoleFromSun::ephemeris;
+    const skypole::Score e = run(stack, p, "ephemeris heading " + std::to_string(heading));
+    REQUIRE(e.bearing_error_deg);
+    CHECK(std::abs(*e.bearing_error_deg) < 0.05);
+    CHECK(e.latitude_error_deg == Approx(0).margin(1e-9));  // the site is given
+  }
+}
+
+TEST_CASE("sun-vector in the south and without AoLP", "[skypole][sun_vector]") {
+  testing::SyntheticSpec spec;
+  spec.latitude_deg = -33.87;
+  spec.longitude_deg = 151.21;
+  spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
+  spec.heading_deg = 75;
+  spec.size = 128;
+  const render::Stack stack = testing::make_stack(spec);
+  skypole::SunVectorResult r;
+  const skypole::Score s = run(stack, {}, "Sydney", &r);
+  CHECK_FALSE(r.estimate.is_north);
+  CHECK(s.angular_error_deg < 0.05);
+
+  testing::SyntheticSpec no = paper_spec(0);
+  no.with_aolp = false;
+  no.size = 64;
+  CHECK_THROWS_WITH(skypole::estimate_sun_vector(testing::make_stack(no)),
+                    Catch::Contains("AoLP.Y"));
+}
+
+TEST_CASE("sun-vector with sensor noise", "[skypole][sun_vector]") {
+  testing::SyntheticSpec spec = paper_spec(30);
+  spec.noise = 0.01;
+  spec.max_dolp = 0.7;
+  const render::Stack stack = testing::make_stack(spec);
+  const skypole::Score s = run(stack, {}, "noise 1 %, Pmax 0.7, 8 h");
+  CHECK(s.angular_error_deg < 0.3);
+  spec.times = testing::times_every("2022-09-23T09:00:00Z", "2022-09-23T11:00:00Z", 10);
+  const render::Stack short_stack = testing::make_stack(spec);
+  run(short_stack, {}, "noise 1 %, Pmax 0.7, 2 h");
+}
