@@ -1,0 +1,60 @@
+// Dataset-level evaluation: run estimators by name, score many (estimate, truth) rows, summarise
+// them per method (mean, median, p95, max of |error|) and write CSV text for `skypol evaluate`.
+// Statistics: over the valid rows only (an invalid estimate is counted, not scored); the median of
+// an even count is the mean of the two middle values; p95 is the nearest-rank percentile
+// (the ⌈0.95·n⌉-th smallest). CSV: RFC 4180 quoting, '.' decimals, an undefined value (bearing at
+// a geographic pole, any error of an invalid row) is an empty field — never NaN.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "render/frame.h"
+#include "skypole/estimate.h"
+
+namespace skypol::skypole {
+
+// "classic", "great_circle", "invariance", "sun_vector", "sun_vector_ephemeris".
+const std::vector<std::string>& method_names();
+
+// Runs the named method with its defaults and the given input options. Throws
+// std::invalid_argument for an unknown name (listing the legal ones) or unusable input.
+PoleEstimate run_method(const render::Stack& stack, std::string_view method,
+                        const InputOptions& input = {});
+
+struct EvaluationRow {
+  std::string dataset;    // e.g. the stack's file name
+  PoleEstimate estimate;  // estimate.method names the method
+  render::Truth truth;    // the stack's truth (frame 0)
+};
+
+struct Stats {
+  int n = 0;
+  double mean = 0, median = 0, p95 = 0, max = 0;
+};
+Stats summarize_values(std::vector<double> values);  // n = 0 and zeros for no values
+
+struct MethodSummary {
+  std::string method;
+  int rows = 0;
+  int valid = 0;
+  Stats bearing_abs_deg;   // over the valid rows with a defined bearing
+  Stats latitude_abs_deg;
+  Stats angular_deg;
+  double mean_seconds = 0;  // over all rows
+};
+
+// One summary per method, in order of first appearance.
+std::vector<MethodSummary> summarize(const std::vector<EvaluationRow>& rows);
+
+// Columns: dataset,method,valid,why_invalid,heading_deg,latitude_deg,azimuth_rel_deg,altitude_deg,
+// is_north,true_heading_deg,true_latitude_deg,bearing_error_deg,latitude_error_deg,
+// angular_error_deg,residual_deg,confidence,seconds,note
+std::string rows_csv(const std::vector<EvaluationRow>& rows);
+// Columns: method,rows,valid,{bearing,latitude,angular}_{n,mean,median,p95,max},mean_seconds
+std::string summary_csv(const std::vector<MethodSummary>& summaries);
+// A fixed-width table for a terminal.
+std::string summary_text(const std::vector<MethodSummary>& summaries);
+
+}  // namespace skypol::skypole
