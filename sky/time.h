@@ -15,8 +15,11 @@ struct Instant {
 };
 
 // Parses "2022-09-23T10:30:00Z", "2022-09-23T12:30:00+02:00", "2022-09-23 10:30:00.5-07:00",
-// a date and time with an explicit zone (Z or ±hh:mm / ±hhmm / ±hh). A missing zone, an invalid
-// field or trailing text throws std::invalid_argument whose message says what was expected.
+// a date and time with an explicit zone (Z or ±hh:mm / ±hhmm / ±hh). Also accepted: seconds
+// omitted ("…T10:30Z"), any number of fractional digits after '.' or ',', lower-case 't'/'z'.
+// A missing zone, an invalid field (month 13, 30 February, hour 24, a leap second :60 — POSIX
+// time cannot hold it) or trailing text throws std::invalid_argument quoting the text, naming
+// the problem and its position, and showing the expected form.
 Instant parse_iso8601(std::string_view text);
 
 // "2022-09-23T10:30:00Z" (fractional seconds printed only when non-zero, to the millisecond).
