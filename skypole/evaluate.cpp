@@ -39,7 +39,8 @@ std::string num(const std::optional<double>& v) { return v ? num(*v) : std::stri
 
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"classic", "great_circle", "invariance",
-                                                 "sun_vector", "sun_vector_ephemeris"};
+                                                 "sun_vector", "sun_vector_ephemeris",
+                                                 "sun_dolp"};
   return names;
 }
 
@@ -60,10 +61,11 @@ PoleEstimate run_method(const render::Stack& stack, std::string_view method,
     p.input = input;
     return estimate_invariance(stack, p).estimate;
   }
-  if (method == "sun_vector" || method == "sun_vector_ephemeris") {
+  if (method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp") {
     SunVectorParams p;
     p.input = input;
-    p.mode = method == "sun_vector" ? PoleFromSun::circle : PoleFromSun::ephemeris;
+    p.mode = method == "sun_vector_ephemeris" ? PoleFromSun::ephemeris : PoleFromSun::circle;
+    p.source = method == "sun_dolp" ? SunSource::dolp : SunSource::aolp;
     PoleEstimate e = estimate_sun_vector(stack, p).estimate;
     e.method = std::string(method);
     return e;

@@ -15,7 +15,8 @@
 
 namespace skypol::skypole {
 
-// "classic", "great_circle", "invariance", "sun_vector", "sun_vector_ephemeris".
+// "classic", "great_circle", "invariance", "sun_vector" (AoLP, circle), "sun_vector_ephemeris"
+// (AoLP, ephemeris), "sun_dolp" (Rayleigh fit of DoLP, circle).
 const std::vector<std::string>& method_names();
 
 // Runs the named method with its defaults and the given input options. Throws

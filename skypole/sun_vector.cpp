@@ -29,6 +29,70 @@ std::string_view pole_from_sun_name(PoleFromSun m) {
   return m == PoleFromSun::circle ? "circle" : "ephemeris";
 }
 
+SunSource parse_sun_source(std::string_view name) {
+  if (name == "aolp") return SunSource::aolp;
+  if (name == "dolp") return SunSource::dolp;
+  throw std::invalid_argument("unknown sun source \"" + std::string(name) +
+                              "\" (expected one of aolp, dolp)");
+}
+
+std::string_view sun_source_name(SunSource s) { return s == SunSource::aolp ? "aolp" : "dolp"; }
+
+std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const Eigen::Vector3d& start, double* pmax,
+                                             double* rms) {
+  // Pixels used: every valid one, thinned to ≤ ~60k on a regular stride.
+  const int stride = std::max(
+      1, static_cast<int>(std::floor(std::sqrt(static_cast<double>(sky.valid_count) / 60000.0))));
+  std::vector<Eigen::Vector3d> d;
+  std::vector<double> v;
+  for (int y = 0; y < sky.height; y += stride)
+    for (int x = 0; x < sky.width; x += stride) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
+                            static_cast<std::size_t>(x);
+      if (!sky.valid[i]) continue;
+      d.push_back(to_double(sky.ray_camera[i]));
+      v.push_back(dolp[i]);
+    }
+  if (d.size() < 20) return std::nullopt;
+  Eigen::Vector3d s = start.normalized();
+  double p = 0.7, sse = 0;
+  for (int it = 0; it < 30; ++it) {
+    const Eigen::Vector3d e1 = s.unitOrthogonal(), e2 = s.cross(e1);
+    // Variable projection: Pmax by least squares for this s, then a Gauss–Newton step in s.
+    double sgg = 0, sdg = 0;
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const double c = s.dot(d[k]), g = (1 - c * c) / (1 + c * c);
+      sgg += g * g;
+      sdg += g * v[k];
+    }
+    if (!(sgg > 0)) return std::nullopt;
+    p = sdg / sgg;
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    sse = 0;
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const double c = s.dot(d[k]), c2 = c * c, g = (1 - c2) / (1 + c2);
+      const double dg = -4 * c / ((1 + c2) * (1 + c2));
+      const double r = p * g - v[k];
+      const Eigen::Vector3d j(p * dg * d[k].dot(e1), p * dg * d[k].dot(e2), g);
+      jtj += j * j.transpose();
+      jtr += j * r;
+      sse += r * r;
+    }
+    const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
+    if (!step.allFinite()) return std::nullopt;
+    const double len = std::hypot(step(0), step(1));
+    const double scale = len > 0.1 ? 0.1 / len : 1.0;  // at most ~6° per step
+    s = (s + scale * (step(0) * e1 + step(1) * e2)).normalized();
+    if (len < 1e-12) break;
+  }
+  if ((sky.level_from_camera * s).z() < 0) s = -s;
+  if (pmax) *pmax = p;
+  if (rms) *rms = std::sqrt(sse / static_cast<double>(d.size()));
+  return s;
+}
+
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
                                              const camera::Camera& camera, double min_dolp,
@@ -67,7 +131,15 @@ SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorP
   const char* method = "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
   const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
-  const auto aolp = aolp_channels(stack, sky, method);
+  const auto aolp = params.source == SunSource::aolp ? aolp_channels(stack, sky, method)
+                                                     : std::vector<std::vector<float>>{};
+  std::vector<std::optional<Eigen::Vector3d>> starts;
+  if (params.source == SunSource::dolp) {
+    std::vector<std::vector<float>> filtered;
+    for (const auto& d : sky.dolp)
+      filtered.push_back(disk_filter(d, sky, default_filter_radius_px(sky.width, sky.height)));
+    starts = find_suns(sky, filtered);
+  }
   SunVectorResult result;
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -82,9 +154,19 @@ SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorP
   double mean_q = 0;
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     double q = 1;
-    const auto s = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &q);
-    if (!s) return fail("frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
-                        std::to_string(params.min_dolp) + ") to find the sun from the AoLP");
+    std::optional<Eigen::Vector3d> s;
+    if (params.source == SunSource::aolp) {
+      s = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &q);
+      if (!s)
+        return fail("frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
+                    std::to_string(params.min_dolp) + ") to find the sun from the AoLP");
+    } else {
+      if (!starts[t])
+        return fail("frame " + std::to_string(t) + " shows no sun-like DoLP minimum above the "
+                    "horizon to start the Rayleigh fit from");
+      s = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &q);
+      if (!s) return fail("the Rayleigh fit of frame " + std::to_string(t) + " failed");
+    }
     suns.push_back(s);
     result.suns_camera.push_back(*s);
     result.sun_quality.push_back(q);

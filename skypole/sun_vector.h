@@ -1,6 +1,10 @@
 // The sun-vector baseline: the sun's direction in each frame from the AoLP (single scattering
 // polarizes ⟂ the scattering plane, so every E-vector is ⟂ the sun: the sun is the direction most
 // nearly ⟂ all of them), then the pole from the sun's path.
+// SunSource::dolp finds each sun from the DoLP alone instead, by fitting the Rayleigh law
+// DoLP = Pmax·(1 − c²)/(1 + c²), c = s·d, to every valid pixel (Gauss–Newton on s and Pmax, started
+// at the lowest filtered DoLP above the horizon): no AoLP needed, every pixel contributes, but it is
+// only as good as the Rayleigh law is for the sky (the AoLP route needs only E ⟂ s).
 //
 // Sun per frame: s = the eigenvector of the smallest eigenvalue of Σ w E Eᵀ over the valid pixels
 // with DoLP ≥ min_dolp, w = DoLP² (the angle's noise scales as 1/DoLP), E the unit E-vector in the
@@ -16,7 +20,8 @@
 // of (true sun azimuth − level-frame sun azimuth), and the pole is the site's true pole placed
 // with that heading. Its latitude is the site's, by construction: only its bearing is a result.
 // residual_deg: RMS angle between the suns and the fitted cone (circle) or between the measured
-// and the ephemeris suns after the heading (ephemeris); confidence: 1 − mean λ0/λ1 of the sun fits.
+// and the ephemeris suns after the heading (ephemeris); confidence: 1 − mean λ0/λ1 of the AoLP sun
+// fits, or 1 − mean DoLP RMS residual of the Rayleigh fits.
 #pragma once
 
 #include <optional>
@@ -32,12 +37,16 @@
 namespace skypol::skypole {
 
 enum class PoleFromSun { circle, ephemeris };
+enum class SunSource { aolp, dolp };
+SunSource parse_sun_source(std::string_view name);  // "aolp" | "dolp"
+std::string_view sun_source_name(SunSource s);
 PoleFromSun parse_pole_from_sun(std::string_view name);  // "circle" | "ephemeris"
 std::string_view pole_from_sun_name(PoleFromSun m);
 
 struct SunVectorParams {
   InputOptions input;
   PoleFromSun mode = PoleFromSun::circle;
+  SunSource source = SunSource::aolp;
   std::optional<sky::Site> site;  // ephemeris mode; nullopt → frame 0's truth site
   Detrend detrend = Detrend::automatic;
   double auto_detrend_min_hours = 4.0;
@@ -47,7 +56,7 @@ struct SunVectorParams {
 struct SunVectorResult {
   PoleEstimate estimate;
   std::vector<Eigen::Vector3d> suns_camera;  // per frame, unit, above the horizon
-  std::vector<double> sun_quality;           // λ0/λ1 per frame (small = clear)
+  std::vector<double> sun_quality;           // aolp: λ0/λ1; dolp: DoLP RMS residual (small = clear)
 };
 
 // The sun in one frame from its AoLP (see above); nullopt if too few polarized pixels.
@@ -56,7 +65,13 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
                                              const camera::Camera& camera, double min_dolp,
                                              double* quality = nullptr);
 
-// Needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
+// The sun in one frame from a Rayleigh fit of its DoLP, started at `start`; nullopt if the fit
+// fails. pmax receives the fitted Pmax, rms the DoLP residual.
+std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const Eigen::Vector3d& start, double* pmax = nullptr,
+                                             double* rms = nullptr);
+
+// SunSource::aolp needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
 SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorParams& params = {});
 
 }  // namespace skypol::skypole

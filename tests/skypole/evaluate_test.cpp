@@ -60,3 +60,47 @@ TEST_CASE("evaluation rows and summaries, invalid rows counted but never scored"
   CHECK(sum.rfind("method,rows,valid,bearing_n", 0) == 0);
   std::cout << skypole::summary_text(summaries);
 }
+
+TEST_CASE("accuracy of every method: noise-free day, noisy day, noisy short window",
+          "[skypole][evaluate][accuracy]") {
+  // The targets: better estimators within 0.05° on noise-free Rayleigh stacks of the
+  // paper's set-up; with realistic sensor noise ≤ 0.3° from a shorter window.
+  struct Case {
+    const char* name;
+    const char* start;
+    const char* end;
+    double step_min;
+    double noise;
+    double pmax;
+  };
+  const Case cases[] = {
+      {"paper day, noise-free", "2022-09-23T08:00:00Z", "2022-09-23T16:00:00Z", 30, 0, 1.0},
+      {"paper day, noise 1%, Pmax 0.7", "2022-09-23T08:00:00Z", "2022-09-23T16:00:00Z", 30, 0.01, 0.7},
+      {"2 h every 10 min, noise 1%, Pmax 0.7", "2022-09-23T09:00:00Z", "2022-09-23T11:00:00Z", 10, 0.01, 0.7},
+  };
+  for (const Case& c : cases) {
+    std::vector<skypole::EvaluationRow> rows;
+    for (double heading : {15.0, 140.0, 260.0}) {
+      testing::SyntheticSpec spec;
+      spec.times = testing::times_every(c.start, c.end, c.step_min);
+      spec.heading_deg = heading;
+      spec.noise = c.noise;
+      spec.max_dolp = c.pmax;
+      spec.seed = static_cast<std::uint32_t>(heading) + 7;
+      const render::Stack stack = testing::make_stack(spec);
+      for (const auto& m : skypole::method_names())
+        rows.push_back({c.name, skypole::run_method(stack, m), stack.frames.front().truth});
+    }
+    const auto summaries = skypole::summarize(rows);
+    std::cout << "\n" << c.name << " (3 headings, 256×256 equidistant 185°):\n"
+              << skypole::summary_text(summaries);
+    for (const auto& s : summaries) {
+      INFO(c.name << " / " << s.method);
+      if (c.noise == 0 && s.method != "classic" && s.method != "invariance")
+        CHECK(s.angular_deg.max < 0.05);
+      if (c.noise == 0 && s.method == "invariance") CHECK(s.angular_deg.max < 0.05);
+      if (c.noise > 0 && (s.method == "sun_vector" || s.method == "sun_dolp"))
+        CHECK(s.angular_deg.max < 0.3);
+    }
+  }
+}
