@@ -1,6 +1,7 @@
 // The paper's SkyPole algorithm (steps in classic.h).
 #include "skypole/classic.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -56,6 +57,27 @@ bool on_edge(const SkyImages& sky, std::size_t i) {
   return false;
 }
 
+// Robust σ of the (filtered) difference image's noise: the MAD of differences between pixels
+// 2⌊r⌋+1 apart along rows (far enough apart for the disk filter to leave them independent),
+// divided by √2. The smooth signal adds little at that distance.
+float difference_noise(const std::vector<float>& fa, const std::vector<float>& fb,
+                       const SkyImages& sky, double radius) {
+  const int step = 2 * static_cast<int>(std::floor(radius)) + 1;
+  std::vector<double> d;
+  const std::size_t W = static_cast<std::size_t>(sky.width);
+  for (int y = 0; y < sky.height; y += 2)
+    for (int x = 0; x + step < sky.width; x += 2) {
+      const std::size_t i = static_cast<std::size_t>(y) * W + static_cast<std::size_t>(x);
+      const std::size_t j = i + static_cast<std::size_t>(step);
+      if (!sky.valid[i] || !sky.valid[j]) continue;
+      d.push_back(std::abs(static_cast<double>(fa[j] - fb[j]) - static_cast<double>(fa[i] - fb[i])));
+    }
+  if (d.empty()) return 0.0f;
+  const auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
+  std::nth_element(d.begin(), mid, d.end());
+  return static_cast<float>(1.4826 * *mid / std::sqrt(2.0));
+}
+
 }  // namespace
 
 ThresholdMode parse_threshold_mode(std::string_view name) {
@@ -101,9 +123,13 @@ ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& 
     std::vector<float> diff(n, 0.0f);
     for (std::size_t i = 0; i < n; ++i)
       if (sky.valid[i]) diff[i] = std::abs(fa[i] - fb[i]);
-    const float thr = params.threshold_mode == ThresholdMode::absolute
-                          ? static_cast<float>(params.threshold)
-                          : static_cast<float>(params.threshold) * valid_quantile(diff, sky, 0.99);
+    float thr = static_cast<float>(params.threshold);
+    if (params.threshold_mode == ThresholdMode::relative) {
+      thr *= valid_quantile(diff, sky, 0.99);
+      if (params.noise_floor > 0)
+        thr = std::max(thr, static_cast<float>(params.noise_floor) *
+                                difference_noise(fa, fb, sky, radius));
+    }
     std::vector<std::uint8_t> bin(n, 0);
     for (std::size_t i = 0; i < n; ++i)
       if (sky.valid[i] && diff[i] <= thr) {

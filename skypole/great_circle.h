@@ -49,8 +49,8 @@ std::string_view drift_model_name(DriftModel m);
 
 struct GreatCircleParams {
   InputOptions input;
-  // Disk filter before the zero crossings; nullopt → 0 (none) for a stack without noise... the
-  // estimator cannot know, so the default is default_filter_radius_px (it costs < 0.01° noise-free).
+  // Disk filter before the zero crossings; nullopt → default_filter_radius_px (it averages the
+  // noise down and moves noise-free crossings by < 0.001°). 0 disables it.
   std::optional<double> filter_radius_px;
   PairMode pairs = PairMode::all;
   int interval = 1;

@@ -104,3 +104,15 @@ TEST_CASE("accuracy of every method: noise-free day, noisy day, noisy short wind
     }
   }
 }
+
+TEST_CASE("run time on a larger image", "[.perf]") {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.size = 1024;
+  const render::Stack stack = testing::make_stack(spec);
+  for (const auto& m : skypole::method_names()) {
+    const skypole::PoleEstimate e = skypole::run_method(stack, m);
+    const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+    std::cout << m << ": " << e.seconds << " s, angular " << s.angular_error_deg << "\n";
+  }
+}
