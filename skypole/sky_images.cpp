@@ -247,7 +247,20 @@ std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
       suns.emplace_back(std::nullopt);
       continue;
     }
-    suns.emplace_back(to_double(sky.ray_camera[best]));
+    // Refine: centroid of the directions within 10° of the minimum, weighted by how far below
+    // 10 % of the p99 their DoLP lies (the sun's neighbourhood is flat, DoLP ∝ γ²: one pixel is noisy).
+    const Eigen::Vector3d s0 = to_double(sky.ray_camera[best]);
+    const double cut = 0.1 * static_cast<double>(p99);
+    const double cos10 = std::cos(10 * kDeg);
+    Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < img.size(); ++i) {
+      const double v = img[i];
+      if (!sky.valid[i] || !(v < cut)) continue;
+      const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
+      if (d.dot(s0) < cos10) continue;
+      acc += (cut - v) * d;
+    }
+    suns.emplace_back(acc.norm() > 0 ? Eigen::Vector3d(acc.normalized()) : s0);
   }
   return suns;
 }
@@ -262,19 +275,18 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
     d.source = "hint";
     return d;
   }
+  // Over all pairs of frames with a sun (i earlier than j): long baselines dominate, so noise in
+  // the individual sun positions averages out.
   double vote = 0, total = 0;
   int used = 0;
-  const std::optional<Eigen::Vector3d>* prev = nullptr;
-  for (const auto& s : suns) {
-    if (!s) continue;
-    if (prev) {
-      const Eigen::Vector3d c = (**prev).cross(*s);
+  for (std::size_t i = 0; i < suns.size(); ++i)
+    for (std::size_t j = i + 1; j < suns.size(); ++j) {
+      if (!suns[i] || !suns[j]) continue;
+      const Eigen::Vector3d c = suns[i]->cross(*suns[j]);
       vote += c.dot(axis_camera);
       total += c.norm();
       ++used;
     }
-    prev = &s;
-  }
   d.source = "sun rotation";
   if (used == 0) {
     d.why = "cannot tell north from south: the sun (lowest DoLP above the horizon) is in view in "

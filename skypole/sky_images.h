@@ -63,7 +63,8 @@ std::optional<double> sample_bilinear(const std::vector<float>& image, const Sky
 
 // The sun in each frame, found as the lowest DoLP above the horizon (the antisun, the other zero
 // of DoLP, is below it in daytime). nullopt for a frame whose lowest DoLP is not sun-like (above
-// a quarter of the frame's 99th percentile: the sun is not in view).
+// a quarter of the frame's 99th percentile: the sun is not in view). The direction is the weighted
+// centroid of the low-DoLP pixels within 10° of the minimum.
 std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
                                                       const std::vector<std::vector<float>>& dolp);
 
@@ -75,8 +76,8 @@ struct HemisphereDecision {
 };
 
 // Is `axis_camera`, the end of the pole axis above the horizon, the NCP (rather than the SCP)?
-// From the hint when it is north/south, else from the sun's rotation: Σ (s_i × s_{i+1})·axis < 0
-// over consecutive frames with a sun means NCP.
+// From the hint when it is north/south, else from the sun's rotation: Σ (s_i × s_j)·axis < 0
+// over all pairs of frames i < j with a sun means NCP.
 HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
                                      const Eigen::Vector3d& axis_camera, Hemisphere hint);
 

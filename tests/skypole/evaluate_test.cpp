@@ -94,6 +94,8 @@ TEST_CASE("accuracy of every method: noise-free day, noisy day, noisy short wind
     const auto summaries = skypole::summarize(rows);
     std::cout << "\n" << c.name << " (3 headings, 256×256 equidistant 185°):\n"
               << skypole::summary_text(summaries);
+    for (const auto& r : rows)
+      if (!r.estimate.valid) std::cout << "  invalid " << r.estimate.method << ": " << r.estimate.why_invalid << "\n";
     for (const auto& s : summaries) {
       INFO(c.name << " / " << s.method);
       if (c.noise == 0 && s.method != "classic" && s.method != "invariance")
