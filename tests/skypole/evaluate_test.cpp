@@ -118,3 +118,47 @@ TEST_CASE("run time on a larger image", "[.perf]") {
     std::cout << m << ": " << e.seconds << " s, angular " << s.angular_error_deg << "\n";
   }
 }
+
+TEST_CASE("hard sites: a geographic pole and the equator", "[skypole][evaluate]") {
+  SECTION("north pole at midsummer: latitude 90, no bearing from anyone") {
+    testing::SyntheticSpec spec;
+    spec.latitude_deg = 90;
+    spec.times = testing::times_every("2022-06-21T00:00:00Z", "2022-06-21T08:00:00Z", 30);
+    spec.size = 128;
+    const render::Stack stack = testing::make_stack(spec);
+    for (const auto& m : skypole::method_names()) {
+      const skypole::PoleEstimate e = skypole::run_method(stack, m);
+      INFO(m << ": " << e.why_invalid);
+      REQUIRE(e.valid);
+      CHECK(e.latitude_deg > 88);
+      const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+      CHECK_FALSE(s.bearing_error_deg.has_value());
+      if (m != "classic" && m != "invariance") CHECK_FALSE(e.heading_deg.has_value());
+    }
+  }
+  SECTION("equator at the equinox: the pole on the horizon") {
+    testing::SyntheticSpec spec;
+    spec.latitude_deg = 0.0;
+    spec.longitude_deg = 0.0;
+    spec.heading_deg = 50;
+    spec.times = testing::paper_times();
+    spec.size = 128;
+    const render::Stack stack = testing::make_stack(spec);
+    for (const auto& m : {"great_circle", "sun_vector", "sun_dolp"}) {
+      const skypole::PoleEstimate e = skypole::run_method(stack, m);
+      INFO(m << ": " << e.why_invalid);
+      REQUIRE(e.valid);
+      const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+      std::cout << "equator " << m << ": angular " << s.angular_error_deg << "°, north "
+                << e.is_north << "\n";
+      CHECK(s.angular_error_deg < 0.1);
+    }
+    // The image-space methods need the pole inside the usable image: a clear refusal or a pole
+    // near the horizon, never a silent far-off number.
+    for (const auto& m : {"classic", "invariance"}) {
+      const skypole::PoleEstimate e = skypole::run_method(stack, m);
+      std::cout << "equator " << m << ": " << (e.valid ? "valid" : e.why_invalid) << "\n";
+      if (e.valid) CHECK(skypole::score(e, stack.frames.front().truth).angular_error_deg < 3);
+    }
+  }
+}
