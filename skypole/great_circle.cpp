@@ -351,7 +351,7 @@ GreatCircleResult estimate_great_circle(const render::Stack& stack, const GreatC
     cp.radial_rms_deg = radial.rms / kDeg;
     cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
     cp.hypothesis_ratio = hyp.ratio;
-    cp.used = radial.inliers >= params.min_points;
+    cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
     circles.push_back(cp);
   }
 

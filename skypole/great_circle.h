@@ -55,6 +55,9 @@ struct GreatCircleParams {
   PairMode pairs = PairMode::all;
   int interval = 1;
   int min_points = 30;            // zero crossings a circle needs to be used
+  // Pairs whose suns are closer than this (fitted separation) are not used: their difference
+  // image is weak against noise and their circles are nearly parallel to their neighbours'.
+  double min_separation_deg = 0;
   DriftModel drift = DriftModel::automatic;
   // automatic: fit the drift when ≥ 4 pairs are kept and their radial normals span ≥ this arc
   // about the pole (a short window cannot separate the drift from the pole).

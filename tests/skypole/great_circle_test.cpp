@@ -116,3 +116,4 @@ TEST_CASE("great circles obey the hemisphere hint and refuse too little input",
   two.frames.resize(2);
   CHECK_THROWS_WITH(skypole::estimate_great_circle(two), Catch::Contains("at least 3 frames"));
 }
+
