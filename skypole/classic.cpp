@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 namespace skypol::skypole {
 namespace {
@@ -112,14 +113,16 @@ ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& 
   im.height = sky.height;
   im.pairs = make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval);
 
-  std::vector<std::vector<float>> filtered;
-  for (const auto& d : sky.dolp) filtered.push_back(disk_filter(d, sky, radius));
+  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
 
   const std::size_t n = sky.pixels();
-  std::vector<float> sum(n, 0.0f);
-  for (const auto& [a, b] : im.pairs) {
-    const auto& fa = filtered[static_cast<std::size_t>(a)];
-    const auto& fb = filtered[static_cast<std::size_t>(b)];
+  // Each pair on its own (in parallel), then the sum in pair order.
+  std::vector<std::vector<float>> diffs(im.pairs.size());
+  std::vector<std::vector<std::uint8_t>> bins(im.pairs.size());
+  im.thresholds.assign(im.pairs.size(), 0.0f);
+  tbb::parallel_for(std::size_t{0}, im.pairs.size(), [&](std::size_t k) {
+    const auto& fa = filtered[static_cast<std::size_t>(im.pairs[k].first)];
+    const auto& fb = filtered[static_cast<std::size_t>(im.pairs[k].second)];
     std::vector<float> diff(n, 0.0f);
     for (std::size_t i = 0; i < n; ++i)
       if (sky.valid[i]) diff[i] = std::abs(fa[i] - fb[i]);
@@ -131,16 +134,17 @@ ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& 
                                 difference_noise(fa, fb, sky, radius));
     }
     std::vector<std::uint8_t> bin(n, 0);
-    for (std::size_t i = 0; i < n; ++i)
-      if (sky.valid[i] && diff[i] <= thr) {
-        bin[i] = 1;
-        sum[i] += 1.0f;
-      }
-    im.thresholds.push_back(thr);
-    if (params.keep_intermediates) {
-      im.differences.push_back(std::move(diff));
-      im.binaries.push_back(std::move(bin));
-    }
+    for (std::size_t i = 0; i < n; ++i) bin[i] = sky.valid[i] && diff[i] <= thr;
+    im.thresholds[k] = thr;
+    bins[k] = std::move(bin);
+    if (params.keep_intermediates) diffs[k] = std::move(diff);
+  });
+  std::vector<float> sum(n, 0.0f);
+  for (const auto& bin : bins)
+    for (std::size_t i = 0; i < n; ++i) sum[i] += bin[i] ? 1.0f : 0.0f;
+  if (params.keep_intermediates) {
+    im.differences = std::move(diffs);
+    im.binaries = std::move(bins);
   }
 
   float best = 0;

@@ -10,6 +10,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 namespace skypol::skypole {
 namespace {
@@ -295,8 +296,7 @@ GreatCircleResult estimate_great_circle(const render::Stack& stack, const GreatC
   const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
-  std::vector<std::vector<float>> filtered;
-  for (const auto& d : sky.dolp) filtered.push_back(disk_filter(d, sky, radius));
+  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
 
   // Sample pixels for the radial/plane decision.
   std::vector<std::size_t> samples;
@@ -316,21 +316,22 @@ GreatCircleResult estimate_great_circle(const render::Stack& stack, const GreatC
 
   GreatCircleResult result;
   std::vector<CirclePair> circles;
-  for (const auto& [i, j] : make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval)) {
+  const auto pairs = make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval);
+  circles.resize(pairs.size());
+  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+    const auto [i, j] = pairs[k];
+    CirclePair& cp = circles[k];
     const auto& fi = filtered[static_cast<std::size_t>(i)];
     const auto& fj = filtered[static_cast<std::size_t>(j)];
     const std::vector<Crossing> pts = zero_crossings(fi, fj, sky);
-    CirclePair cp;
     cp.i = i;
     cp.j = j;
     if (static_cast<int>(pts.size()) < 2 * params.min_points) {
-      circles.push_back(cp);
-      continue;
+      return;
     }
     const auto planes = fit_plane_pair(pts);
     if (!planes) {
-      circles.push_back(cp);
-      continue;
+      return;
     }
     std::vector<float> di, dj;
     for (std::size_t s : samples) {
@@ -352,8 +353,7 @@ GreatCircleResult estimate_great_circle(const render::Stack& stack, const GreatC
     cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
     cp.hypothesis_ratio = hyp.ratio;
     cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
-    circles.push_back(cp);
-  }
+  });
 
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

@@ -249,8 +249,7 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
   const double fit_radius = params.fit_radius_px.value_or(
       std::max(3.0, 0.01 * std::min(sky.width, sky.height)));
-  std::vector<std::vector<float>> filtered;
-  for (const auto& d : sky.dolp) filtered.push_back(disk_filter(d, sky, radius));
+  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
 
   InvarianceResult result;
   const double span_h = (sky.times_s.back() - sky.times_s.front()) / 3600.0;

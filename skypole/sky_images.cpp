@@ -10,6 +10,8 @@
 
 #include <Eigen/Geometry>
 
+#include <tbb/parallel_for.h>
+
 #include "camera/orientation.h"
 #include "sky/time.h"
 
@@ -113,7 +115,7 @@ SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& opt
 
   const double min_z = std::sin(options.min_elevation_deg * kDeg);
   sky.ray_camera.assign(n, Eigen::Vector3f::Zero());
-  for (int y = 0; y < sky.height; ++y)
+  tbb::parallel_for(0, sky.height, [&](int y) {
     for (int x = 0; x < sky.width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
                             static_cast<std::size_t>(x);
@@ -124,8 +126,9 @@ SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& opt
         continue;
       }
       sky.ray_camera[i] = r->normalized().cast<float>();
-      ++sky.valid_count;
     }
+  });
+  for (std::size_t i = 0; i < n; ++i) sky.valid_count += sky.valid[i] ? 1 : 0;
   if (sky.valid_count == 0)
     throw std::invalid_argument(m + ": no pixel sees sky above " +
                                 std::to_string(options.min_elevation_deg) +
@@ -200,6 +203,13 @@ std::vector<float> disk_filter(const std::vector<float>& image, const SkyImages&
       }
       out[i] = c > 0 ? static_cast<float>(s / c) : 0.0f;
     }
+  return out;
+}
+
+std::vector<std::vector<float>> filter_all(const SkyImages& sky, double radius_px) {
+  std::vector<std::vector<float>> out(sky.frames());
+  tbb::parallel_for(std::size_t{0}, sky.frames(),
+                    [&](std::size_t t) { out[t] = disk_filter(sky.dolp[t], sky, radius_px); });
   return out;
 }
 

@@ -53,6 +53,9 @@ double default_filter_radius_px(int width, int height);
 std::vector<float> disk_filter(const std::vector<float>& image, const SkyImages& sky,
                                double radius_px);
 
+// disk_filter of every frame's DoLP (frames in parallel).
+std::vector<std::vector<float>> filter_all(const SkyImages& sky, double radius_px);
+
 // Value below which `fraction` of the valid pixels of `image` lie (nth_element; 0 if none).
 float valid_quantile(const std::vector<float>& image, const SkyImages& sky, double fraction);
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 #include "camera/camera.h"
 #include "sky/sun.h"
@@ -135,10 +136,7 @@ SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorP
                                                      : std::vector<std::vector<float>>{};
   std::vector<std::optional<Eigen::Vector3d>> starts;
   if (params.source == SunSource::dolp) {
-    std::vector<std::vector<float>> filtered;
-    for (const auto& d : sky.dolp)
-      filtered.push_back(disk_filter(d, sky, default_filter_radius_px(sky.width, sky.height)));
-    starts = find_suns(sky, filtered);
+    starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
   }
   SunVectorResult result;
   const auto seconds = [&] {
@@ -150,27 +148,29 @@ SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorP
     return result;
   };
 
-  std::vector<std::optional<Eigen::Vector3d>> suns;
+  // Each frame's sun on its own (in parallel); the first failing frame is reported.
+  std::vector<std::optional<Eigen::Vector3d>> suns(sky.frames());
+  std::vector<double> quality(sky.frames(), 1.0);
+  tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
+    if (params.source == SunSource::aolp)
+      suns[t] = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &quality[t]);
+    else if (starts[t])
+      suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &quality[t]);
+  });
   double mean_q = 0;
   for (std::size_t t = 0; t < sky.frames(); ++t) {
-    double q = 1;
-    std::optional<Eigen::Vector3d> s;
-    if (params.source == SunSource::aolp) {
-      s = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &q);
-      if (!s)
+    if (!suns[t]) {
+      if (params.source == SunSource::aolp)
         return fail("frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
                     std::to_string(params.min_dolp) + ") to find the sun from the AoLP");
-    } else {
       if (!starts[t])
         return fail("frame " + std::to_string(t) + " shows no sun-like DoLP minimum above the "
                     "horizon to start the Rayleigh fit from");
-      s = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &q);
-      if (!s) return fail("the Rayleigh fit of frame " + std::to_string(t) + " failed");
+      return fail("the Rayleigh fit of frame " + std::to_string(t) + " failed");
     }
-    suns.push_back(s);
-    result.suns_camera.push_back(*s);
-    result.sun_quality.push_back(q);
-    mean_q += q / static_cast<double>(sky.frames());
+    result.suns_camera.push_back(*suns[t]);
+    result.sun_quality.push_back(quality[t]);
+    mean_q += quality[t] / static_cast<double>(sky.frames());
   }
 
   if (params.mode == PoleFromSun::ephemeris) {
