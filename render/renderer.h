@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -44,16 +45,15 @@ class Renderer {
   const RenderOptions& options() const { return options_; }
 
  private:
-  struct Sample {
-    sky::ViewRay ray;
-    float weight;  // 1 where the sample sees the sky, 0 outside the image circle or occluded
-  };
-  void trace_tile(int y0, int y1, std::vector<Sample>& out) const;
+  // Samples of rows [y0, y1): rays[k] and weight[k] (1 where the sample sees the sky, 0 outside
+  // the image circle or occluded), k = (pixel in tile)·spp + sample.
+  void trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight) const;
 
   std::shared_ptr<const camera::Camera> camera_;
   RenderOptions options_;
   std::shared_ptr<const Occluders> occluders_;
-  std::vector<Sample> cached_;  // all pixels' samples at spp = 1
+  std::vector<sky::ViewRay> cached_rays_;  // all pixels' samples at spp = 1
+  std::vector<float> cached_weight_;
 };
 
 }  // namespace skypol::render
