@@ -22,7 +22,7 @@ std::string render_one(const RenderArgs& a) {
   const render::RenderReport r = render::render_scene(scene, out, make_progress(a.quiet));
   if (!a.quiet) {
     std::fprintf(stderr, "wrote %s: %zu frame(s) %dx%d (rays %.2f s, sky %.2f s, encode+write %.2f s)\n", out.c_str(),
-                 r.frames, scene.camera.width, scene.camera.height, r.setup_seconds, r.render_seconds, r.write_seconds);
+                 r.frames, r.width, r.height, r.setup_seconds, r.render_seconds, r.write_seconds);
   }
   return out;
 }

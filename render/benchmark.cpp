@@ -60,13 +60,13 @@ BenchFigures bench_render(const Scene& scene_in, int frames, const std::string& 
   Scene scene = scene_in;
   if (static_cast<int>(scene.times.size()) > frames) scene.times.resize(static_cast<std::size_t>(frames));
   BenchFigures b;
-  b.width = scene.camera.width;
-  b.height = scene.camera.height;
   b.spp = scene.render.spp;
   b.frames = static_cast<int>(scene.times.size());
   b.threads = tbb::info::default_concurrency();
 
   auto cam = build_camera(scene.camera);
+  b.width = cam->width();
+  b.height = cam->height();
   auto sky_model = build_sky(scene.sky);
   RenderOptions ro;
   ro.spp = scene.render.spp;

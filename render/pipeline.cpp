@@ -1,8 +1,10 @@
 #include "render/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "render/renderer.h"
+#include "render/sensor_stage.h"
 #include "render/stack_io.h"
 #include "render/truth.h"
 
@@ -21,6 +23,8 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
   const auto t_setup = Clock::now();
   std::shared_ptr<const camera::Camera> cam = build_camera(scene.camera);
   std::unique_ptr<sky::SkyModel> sky = build_sky(scene.sky);
+  report.width = cam->width();
+  report.height = cam->height();
   std::vector<Truth> truths;
   for (sky::Instant t : scene.times) truths.push_back(make_truth(scene, *cam, t));
   RenderOptions ro;
@@ -28,6 +32,13 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
   ro.seed = scene.render.seed;
   ro.bands = scene.render.bands;
   ro.channels = scene.output.channels;
+  const std::vector<std::string> written = channel_names(ro);
+  // A sensor measures S0, S1, S2 whatever the file keeps; what it does not keep is dropped after.
+  if (scene.sensor) {
+    for (const char* s : {"S0", "S1", "S2"}) {
+      if (std::find(ro.channels.begin(), ro.channels.end(), s) == ro.channels.end()) ro.channels.emplace_back(s);
+    }
+  }
   const Renderer renderer(cam, ro);
   report.setup_seconds = since(t_setup);
 
@@ -42,10 +53,16 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
 
   const auto t_total = Clock::now();
   double render_s = 0;
-  write_stack(out_path, truths, channel_names(ro), cam->width(), cam->height(), header, wo, [&](std::size_t i) {
+  write_stack(out_path, truths, written, cam->width(), cam->height(), header, wo, [&](std::size_t i) {
     if (progress && i > 0) progress(i, truths.size());
     const auto t0 = Clock::now();
     Frame f = renderer.render(*sky, truths[i].sun);
+    if (scene.sensor) {
+      apply_sensor(*scene.sensor, scene.render.bands, i, f);
+      std::erase_if(f.channels, [&](const auto& c) {
+        return std::find(written.begin(), written.end(), c.first) == written.end();
+      });
+    }
     render_s += since(t0);
     f.truth = truths[i];
     return f;

@@ -12,6 +12,7 @@ namespace skypol::render {
 struct RenderReport {
   std::string path;
   std::size_t frames = 0;
+  int width = 0, height = 0;  // of each frame (after binning)
   double setup_seconds = 0;   // camera rays (and occlusion) for the whole stack
   double render_seconds = 0;  // sky evaluation, all frames
   double write_seconds = 0;   // encoding and writing, all frames

@@ -1,13 +1,9 @@
 #include "render/scene.h"
 
 #include <cmath>
-#include <fstream>
-#include <numbers>
-#include <sstream>
+#include <algorithm>
+#include <limits>
 
-#include "camera/orientation.h"
-#include "camera/radial_lens.h"
-#include "sky/rayleigh.h"
 
 namespace skypol::render {
 namespace {
@@ -44,85 +40,14 @@ std::vector<sky::Instant> read_times(Fields& t) {
   return times;
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(FileLoc{path, 0, 0}, "cannot open scene file");
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
-
-toml::table parse_toml(const std::string& text, const std::string& file_name) {
-  try {
-    return toml::parse(text, file_name);
-  } catch (const toml::parse_error& e) {
-    const auto& b = e.source().begin;
-    throw SceneError(FileLoc{file_name, static_cast<int>(b.line), static_cast<int>(b.column)},
-                     "TOML syntax: " + std::string(e.description()));
-  }
-}
-
 }  // namespace
 
-CameraSpec read_camera(Fields& c) {
-  CameraSpec s;
-  std::vector<std::string> models;
-  for (auto m : {camera::Mapping::perspective, camera::Mapping::stereographic, camera::Mapping::equidistant,
-                 camera::Mapping::equisolid, camera::Mapping::orthographic}) {
-    models.emplace_back(camera::mapping_name(m));
-  }
-  s.model = c.choice("model", "equidistant", models);
-  s.width = static_cast<int>(c.integer("width", 0, 1, 65536));
-  s.height = static_cast<int>(c.integer("height", 0, 1, 65536));
-  if (!c.has("width")) c.fail("width", "missing (image width in pixels)");
-  if (!c.has("height")) c.fail("height", "missing (image height in pixels)");
-  const std::optional<double> focal_mm = c.optional_number("focal_mm", 1e-3, 1e4);
-  const std::optional<double> pitch_um = c.optional_number("pitch_um", 1e-2, 1e3);
-  const std::optional<double> fx = c.optional_number("fx", 1e-3, 1e7);
-  const std::optional<double> fy = c.optional_number("fy", 1e-3, 1e7);
-  if (focal_mm && fx) c.fail("fx", "give either 'focal_mm' with 'pitch_um' or 'fx' (and 'fy'), not both");
-  if (focal_mm) {
-    if (!pitch_um) c.fail("pitch_um", "needed with 'focal_mm' (pixel pitch in micrometres)");
-    s.fx = s.fy = *focal_mm * 1000.0 / *pitch_um;
-  } else if (fx) {
-    s.fx = *fx;
-    s.fy = fy.value_or(*fx);
-  } else {
-    c.fail("focal_mm", "missing: give 'focal_mm' and 'pitch_um', or 'fx'");
-  }
-  s.cx = c.number("cx", (s.width - 1) / 2.0, -0.5, s.width - 0.5);
-  s.cy = c.number("cy", (s.height - 1) / 2.0, -0.5, s.height - 0.5);
-  s.fov_deg = c.number("fov_deg", 180, 1, 360);
-  s.heading_deg = c.number("heading_deg", 0, -360, 360);
-  s.tilt_deg = c.number("tilt_deg", 0, 0, 180);
-  s.roll_deg = c.number("roll_deg", 0, -360, 360);
-  const std::string transport = c.choice("transport", "meridional", {"meridional", "projected"});
-  s.transport = transport == "projected" ? camera::Transport::projected : camera::Transport::meridional;
-  c.finish();
-
-  // The canonical description: every value explicit, so a stack rebuilds the exact camera.
-  std::ostringstream os;
-  os.precision(17);
-  os << "model = \"" << s.model << "\"\nwidth = " << s.width << "\nheight = " << s.height << "\nfx = " << s.fx
-     << "\nfy = " << s.fy << "\ncx = " << s.cx << "\ncy = " << s.cy << "\nfov_deg = " << s.fov_deg
-     << "\nheading_deg = " << s.heading_deg << "\ntilt_deg = " << s.tilt_deg << "\nroll_deg = " << s.roll_deg
-     << "\ntransport = \"" << transport << "\"\n";
-  s.description = os.str();
-  return s;
-}
-
-CameraSpec parse_camera(const std::string& toml_text, const std::string& file_name) {
-  const toml::table t = parse_toml(toml_text, file_name);
-  Fields f(t, file_name, "camera");
-  return read_camera(f);
-}
-
-Scene parse_scene(const std::string& text, const std::string& file_name) {
+Scene scene_from_source(const SceneSource& source) {
+  const std::string& file_name = source.file;
   Scene scene;
   scene.file = file_name;
-  scene.text = text;
-  const toml::table root = parse_toml(text, file_name);
-  Fields top(root, file_name, "");
+  scene.text = source.text;
+  Fields top(source.root, file_name, "");
 
   std::optional<Fields> site = top.table("site");
   if (!site) top.fail("site", "missing section [site] (latitude_deg, longitude_deg)");
@@ -148,11 +73,8 @@ Scene parse_scene(const std::string& text, const std::string& file_name) {
   if (!cam) top.fail("camera", "missing section [camera]");
   scene.camera = read_camera(*cam);
 
-  if (std::optional<Fields> sky = top.table("sky")) {
-    scene.sky.model = sky->choice("model", "rayleigh", {"rayleigh"});
-    scene.sky.max_dolp = sky->number("max_dolp", 1.0, 0, 1);
-    sky->finish();
-  }
+  if (std::optional<Fields> sky = top.table("sky")) scene.sky = read_sky(*sky);
+  if (std::optional<Fields> occ = top.table("occluders")) scene.occluders = read_occluders(*occ);
 
   if (std::optional<Fields> r = top.table("render")) {
     scene.render.spp = static_cast<int>(r->integer("spp", 1, 1, 4096));
@@ -160,6 +82,18 @@ Scene parse_scene(const std::string& text, const std::string& file_name) {
     scene.render.bands = r->strings("bands", {"Y"});
     if (scene.render.bands.empty()) r->fail("bands", "needs at least one band name");
     r->finish();
+  }
+
+  if (std::optional<Fields> sensor = top.table("sensor")) {
+    scene.sensor = read_sensor(*sensor, scene.camera);
+    const bool colour = scene.sensor->dofp.color_filter != camera::ColorFilter::none;
+    if (colour && scene.render.bands != std::vector<std::string>{"R", "G", "B"}) {
+      sensor->fail("color_filter", "a colour sensor records bands R, G, B: set [render] bands = [\"R\", \"G\", \"B\"]");
+    }
+    if (!colour && scene.render.bands.size() != 1) {
+      sensor->fail("color_filter", "a mono sensor records one band; [render] bands names " +
+                                       std::to_string(scene.render.bands.size()));
+    }
   }
 
   std::string stem = file_name;
@@ -183,24 +117,12 @@ Scene parse_scene(const std::string& text, const std::string& file_name) {
   return scene;
 }
 
-Scene load_scene(const std::string& path) { return parse_scene(read_file(path), path); }
-
-std::shared_ptr<const camera::Camera> build_camera(const CameraSpec& s) {
-  camera::Intrinsics k;
-  k.fx = s.fx;
-  k.fy = s.fy;
-  k.cx = s.cx;
-  k.cy = s.cy;
-  k.width = s.width;
-  k.height = s.height;
-  auto lens = std::make_shared<camera::RadialLens>(camera::parse_mapping(s.model), k,
-                                                   s.fov_deg / 2 * std::numbers::pi / 180);
-  return std::make_shared<camera::Camera>(
-      lens, camera::world_from_heading_tilt_roll(s.heading_deg, s.tilt_deg, s.roll_deg), s.transport);
+Scene parse_scene(const std::string& text, const std::string& file_name) {
+  return scene_from_source(parse_scene_source(text, file_name));
 }
 
-std::unique_ptr<sky::SkyModel> build_sky(const SkySpec& spec) {
-  return std::make_unique<sky::RayleighSky>(sky::RayleighParams{spec.max_dolp});
+Scene load_scene(const std::string& path, const std::vector<Override>& overrides) {
+  return scene_from_source(load_scene_source(path, overrides));
 }
 
 }  // namespace skypol::render

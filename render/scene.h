@@ -1,6 +1,10 @@
 // A scene: everything one stack is rendered from, read from a TOML file (docs/scenes.md lists
 // every key with its unit, default and range). The loader checks every value and reports problems
 // as SceneError with file, line, column and key; the renderer only ever sees checked values.
+//
+// Each section has its own reader, in its own file: scene.cpp (site, atmosphere, time, render,
+// output), scene_camera.cpp, scene_sky.cpp, scene_sensor.cpp, scene_occluders.cpp; where the
+// TOML comes from (includes, --set) is scene_source.h.
 #pragma once
 
 #include <cstdint>
@@ -10,26 +14,32 @@
 #include <vector>
 
 #include "camera/camera.h"
+#include "camera/dofp_sensor.h"
+#include "camera/lens_factory.h"
+#include "render/occluder_spec.h"
+#include "render/scene_source.h"
 #include "render/toml_fields.h"
 #include "sky/sky_model.h"
+#include "sky/sky_spec.h"
 #include "sky/sun.h"
 #include "sky/time.h"
 
 namespace skypol::render {
 
 struct CameraSpec {
-  std::string model = "equidistant";   // a camera::Mapping name
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels (from focal_mm / pitch_um when not given)
-  double fov_deg = 180;                // full field of view imaged (2·θmax)
+  camera::LensSpec lens;               // checked by camera::make_lens
+  // Orientation (camera/orientation.h). A quaternion in the scene is turned into these angles, so
+  // the truth and the headers always carry heading, tilt and roll.
   double heading_deg = 0, tilt_deg = 0, roll_deg = 0;
   camera::Transport transport = camera::Transport::meridional;
   std::string description;             // canonical TOML of this section, stored in the EXR headers
 };
 
-struct SkySpec {
-  std::string model = "rayleigh";
-  double max_dolp = 1.0;
+// The [sensor] section: a division-of-focal-plane polarization sensor between the sky and the
+// file. Absent: the stack holds the ideal Stokes vectors.
+struct SensorSpec {
+  camera::DofpSensor dofp;
+  camera::Demosaic demosaic = camera::Demosaic::nominal;
 };
 
 struct RenderSpec {
@@ -52,21 +62,28 @@ struct Scene {
   sky::SunOptions sun_options;
   std::vector<sky::Instant> times;
   CameraSpec camera;
-  SkySpec sky;
+  sky::SkySpec sky;
+  std::optional<SensorSpec> sensor;
+  OccluderSpec occluders;
   RenderSpec render;
   OutputSpec output;
 };
 
 // Throws SceneError (missing file, TOML syntax, wrong type, unknown key, value out of range).
-Scene load_scene(const std::string& path);
+Scene load_scene(const std::string& path, const std::vector<Override>& overrides = {});
 Scene parse_scene(const std::string& text, const std::string& file_name);
+Scene scene_from_source(const SceneSource& source);
 
-// The camera section alone (also how a stack's header is turned back into a camera).
+// The camera section alone (also how a stack's header is turned back into a camera). Relative
+// file names in it (ocamcalib_path) resolve against the folder of Fields::file().
 CameraSpec read_camera(Fields& camera_table);
 CameraSpec parse_camera(const std::string& toml_text, const std::string& file_name);
+sky::SkySpec read_sky(Fields& sky_table);
+SensorSpec read_sensor(Fields& sensor_table, const CameraSpec& camera);
+OccluderSpec read_occluders(Fields& occluders_table);
 
 // Built from checked specs; throws SceneError only for combinations a single key cannot catch.
 std::shared_ptr<const camera::Camera> build_camera(const CameraSpec& spec);
-std::unique_ptr<sky::SkyModel> build_sky(const SkySpec& spec);
+std::unique_ptr<sky::SkyModel> build_sky(const sky::SkySpec& spec);
 
 }  // namespace skypol::render

@@ -61,7 +61,9 @@ std::string Fields::dotted(std::string_view key) const {
 FileLoc Fields::loc(std::string_view key) const {
   const toml::node* n = table_->get(key);
   const toml::source_region& src = n ? n->source() : table_->source();
-  return FileLoc{file_, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column)};
+  // A node merged in from an included file or a --set override carries its own origin.
+  const std::string& file = src.path && !src.path->empty() ? *src.path : file_;
+  return FileLoc{file, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column)};
 }
 
 void Fields::fail(std::string_view key, const std::string& message) const {
@@ -181,6 +183,27 @@ std::vector<double> Fields::numbers(std::string_view key, std::vector<double> fa
   return out;
 }
 
+std::vector<Fields::Row> Fields::rows(std::string_view key, std::size_t width) {
+  used_.insert(std::string(key));
+  std::vector<Row> out;
+  const toml::node* n = table_->get(key);
+  if (!n) return out;
+  const std::string expected = "an array of [" + std::to_string(width) + " numbers] rows";
+  const toml::array* a = n->as_array();
+  if (!a) fail(key, "expected " + expected + ", found " + type_name(*n));
+  for (const toml::node& e : *a) {
+    const toml::array* row = e.as_array();
+    if (!row || row->size() != width) fail(key, "expected " + expected + ", found a row that is not");
+    Row r;
+    for (const toml::node& x : *row) {
+      if (!x.is_number()) fail(key, "expected " + expected + ", found an element that is " + type_name(x));
+      r.push_back(*x.value<double>());
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
 std::optional<Fields> Fields::table(std::string_view key) {
   used_.insert(std::string(key));
   const toml::node* n = table_->get(key);
@@ -216,7 +239,8 @@ void Fields::finish() const {
     std::string msg = "unknown key '" + dotted(name) + "'";
     if (!best.empty()) msg += " (did you mean '" + dotted(best) + "'?)";
     const auto& src = k.source().begin ? k.source() : node.source();
-    throw SceneError(FileLoc{file_, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column)}, msg);
+    const std::string& file = src.path && !src.path->empty() ? *src.path : file_;
+    throw SceneError(FileLoc{file, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column)}, msg);
   }
 }
 

@@ -37,6 +37,9 @@ class Fields {
   std::string choice(std::string_view key, std::string fallback, const std::vector<std::string>& legal);
   std::vector<std::string> strings(std::string_view key, std::vector<std::string> fallback);
   std::vector<double> numbers(std::string_view key, std::vector<double> fallback);
+  // An array of `width`-number arrays, e.g. a table = [[0, 0.0], [10, 0.31]].
+  using Row = std::vector<double>;
+  std::vector<Row> rows(std::string_view key, std::size_t width);
 
   // A sub-table; nullopt if absent. The sub-table's keys are checked by its own Fields.
   std::optional<Fields> table(std::string_view key);

@@ -1,0 +1,70 @@
+#include "render/sensor_stage.h"
+
+#include <stdexcept>
+
+#include "render/polarization_math.h"
+
+namespace skypol::render {
+namespace {
+
+// Masked pixels hold zeros; the others get DoLP and AoLP from the measured Stokes.
+void finish_band(const std::string& band, const std::vector<float>* mask, camera::StokesPlanes&& measured,
+                 Frame& frame) {
+  const std::size_t n = measured.s0.size();
+  if (mask) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if ((*mask)[i] == 0.0f) measured.s0[i] = measured.s1[i] = measured.s2[i] = 0.0f;
+    }
+  }
+  if (frame.has("DoLP." + band)) {
+    std::vector<float>& dolp = frame.channel("DoLP." + band);
+    for (std::size_t i = 0; i < n; ++i) dolp[i] = dolp_of(measured.s0[i], measured.s1[i], measured.s2[i]);
+  }
+  if (frame.has("AoLP." + band)) {
+    std::vector<float>& aolp = frame.channel("AoLP." + band);
+    for (std::size_t i = 0; i < n; ++i) aolp[i] = aolp_of(measured.s1[i], measured.s2[i]);
+  }
+  if (frame.has(band)) frame.channel(band) = measured.s0;  // the R, G, B display channels
+  frame.channel("S0." + band) = std::move(measured.s0);
+  frame.channel("S1." + band) = std::move(measured.s1);
+  frame.channel("S2." + band) = std::move(measured.s2);
+}
+
+}  // namespace
+
+std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
+  std::vector<std::string> names;
+  for (const std::string& b : bands) {
+    for (const char* s : {"S0.", "S1.", "S2."}) names.push_back(s + b);
+  }
+  return names;
+}
+
+void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
+                  Frame& frame) {
+  const camera::DofpSensor& d = sensor.dofp;
+  if (frame.width != d.width || frame.height != d.height) {
+    throw std::invalid_argument("sensor: the frame's size differs from the sensor's");
+  }
+  const std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;
+  if (d.color_filter == camera::ColorFilter::none) {
+    if (bands.size() != 1) throw std::invalid_argument("sensor: a mono sensor records one band");
+    const std::string& b = bands[0];
+    const std::vector<std::uint16_t> raw = camera::simulate_raw(d, frame.channel("S0." + b), frame.channel("S1." + b),
+                                                                frame.channel("S2." + b), frame_index);
+    finish_band(b, mask, camera::demosaic_bilinear(d, raw, sensor.demosaic), frame);
+    return;
+  }
+  if (bands != std::vector<std::string>{"R", "G", "B"}) {
+    throw std::invalid_argument("sensor: a colour sensor records bands R, G, B");
+  }
+  std::array<camera::BandStokes, 3> rgb;
+  for (std::size_t i = 0; i < 3; ++i) {
+    rgb[i] = {frame.channel("S0." + bands[i]), frame.channel("S1." + bands[i]), frame.channel("S2." + bands[i])};
+  }
+  const std::vector<std::uint16_t> raw = camera::simulate_raw_color(d, rgb, frame_index);
+  std::array<camera::StokesPlanes, 3> measured = camera::demosaic_color_bilinear(d, raw, sensor.demosaic);
+  for (std::size_t i = 0; i < 3; ++i) finish_band(bands[i], mask, std::move(measured[i]), frame);
+}
+
+}  // namespace skypol::render

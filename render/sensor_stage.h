@@ -1,0 +1,28 @@
+// What a scene's [sensor] does to a rendered frame: the ideal Stokes images go through the
+// division-of-focal-plane sensor (camera/dofp_sensor.h: polarizer mosaic, shot, dark and read noise,
+// full well, ADC) and back through the demosaic, as a real polarization camera's pipeline gives
+// them. DoLP and AoLP are then recomputed from the measured Stokes with the usual rules
+// (render/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
+// zeros, as without a sensor. Run only when the scene has a [sensor] section.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render/frame.h"
+#include "render/scene.h"
+
+namespace skypol::render {
+
+// The Stokes channels the sensor stage needs from the renderer for these bands.
+std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands);
+
+// Replaces S0/S1/S2 (and DoLP/AoLP, if present) of every band by the measured ones. `frame_index`
+// keys the noise: the same scene gives the same noisy frames on any machine and thread count.
+// Mono sensors need one band; colour (rggb_blocks) sensors need bands R, G, B. Throws
+// std::invalid_argument otherwise (the scene loader checks this first).
+void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
+                  Frame& frame);
+
+}  // namespace skypol::render
