@@ -3,32 +3,16 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include <OpenImageIO/imageio.h>
+
 #include "cli/commands.h"
 #include "cli/estimate_report.h"
 #include "render/stack_io.h"
 #include "skypole/classic.h"
+#include "skypole/evaluate.h"
 
 namespace skypol::cli {
 namespace {
-
-const std::vector<std::string> kMethods{"classic"};
-
-skypole::PoleEstimate run_method(const render::Stack& stack, const std::string& method) {
-  if (method == "classic") return skypole::estimate_classic(stack).estimate;
-  std::string legal;
-  for (const std::string& m : kMethods) legal += (legal.empty() ? "" : ", ") + m;
-  throw std::invalid_argument("unknown method '" + method + "' (expected one of " + legal + ")");
-}
-
-// Only the channels the estimators read: DoLP and AoLP of every band, and the mask.
-std::vector<std::string> estimator_channels(const std::string& path) {
-  const render::StackSummary s = render::peek_stack(path);
-  std::vector<std::string> want;
-  for (const std::string& c : s.channels) {
-    if (c == "mask" || c.rfind("DoLP.", 0) == 0 || c.rfind("AoLP.", 0) == 0) want.push_back(c);
-  }
-  return want;
-}
 
 // A number with `decimals` decimals (and a sign if `sign`), or "null" where it is undefined.
 std::string number_or_null(const std::optional<double>& v, int decimals, bool sign = false) {
@@ -38,51 +22,172 @@ std::string number_or_null(const std::optional<double>& v, int decimals, bool si
   return buf;
 }
 
-}  // namespace
-
-void print_estimate(const std::string& path, const std::string& method, bool json) {
-  if (std::find(kMethods.begin(), kMethods.end(), method) == kMethods.end()) run_method({}, method);  // throws
-  const render::Stack stack = render::read_stack(path, estimator_channels(path));
-  const skypole::PoleEstimate e = run_method(stack, method);
-  const render::Truth& t = stack.frames.at(0).truth;
-  const double true_lat = t.site.latitude_deg;
-  if (!e.valid) throw std::invalid_argument(path + ": " + method + " found no pole: " + e.why_invalid);
-  const skypole::Score s = skypole::score(e, t);
-  if (json) {
-    std::printf("{\"stack\": \"%s\", \"method\": \"%s\", \"frames\": %zu, \"seconds\": %.4f,\n", path.c_str(),
-                method.c_str(), stack.frames.size(), e.seconds);
-    std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
-                true_lat, s.latitude_error_deg);
-    std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %.6f, \"bearing_error_deg\": %s,\n",
-                number_or_null(e.heading_deg, 6).c_str(), t.heading_deg,
-                number_or_null(s.bearing_error_deg, 6).c_str());
-    std::printf(" \"angular_error_deg\": %.6f, \"pole\": \"%s\", \"residual_deg\": %.6f, \"confidence\": %.4f}\n",
-                s.angular_error_deg, e.is_north ? "north" : "south", e.residual_deg, e.confidence);
-    return;
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
   }
-  std::printf("stack    %s (%zu frames, %dx%d)\n", path.c_str(), stack.frames.size(), stack.frames[0].width,
-              stack.frames[0].height);
-  std::printf("method   %s (%.3f s)%s%s\n", method.c_str(), e.seconds, e.note.empty() ? "" : "; ", e.note.c_str());
+  return out + "\"";
+}
+
+// The classic estimator's step images (the paper's Fig. 1D and Fig. 2) as one multi-channel EXR:
+// filtered.NN, difference.II-JJ, binary.II-JJ, sum, maximum. Written to a temporary name first.
+void write_intermediates(const skypole::ClassicImages& im, const std::string& path) {
+  std::vector<std::string> names;
+  std::vector<const float*> planes;
+  std::vector<std::vector<float>> converted;  // uint8 images as float
+  converted.reserve(im.binaries.size() + 1);
+  char buf[64];
+  for (std::size_t i = 0; i < im.filtered.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "filtered.%02zu", i);
+    names.emplace_back(buf);
+    planes.push_back(im.filtered[i].data());
+  }
+  for (std::size_t k = 0; k < im.pairs.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "%02d-%02d", im.pairs[k].first, im.pairs[k].second);
+    names.push_back(std::string("difference.") + buf);
+    planes.push_back(im.differences[k].data());
+    converted.emplace_back(im.binaries[k].begin(), im.binaries[k].end());
+    names.push_back(std::string("binary.") + buf);
+    planes.push_back(converted.back().data());
+  }
+  names.emplace_back("sum");
+  planes.push_back(im.sum.data());
+  converted.emplace_back(im.maximum.begin(), im.maximum.end());
+  names.emplace_back("maximum");
+  planes.push_back(converted.back().data());
+
+  const auto n = static_cast<std::size_t>(im.width) * static_cast<std::size_t>(im.height);
+  std::vector<float> pixels(n * names.size());
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    for (std::size_t i = 0; i < n; ++i) pixels[i * names.size() + c] = planes[c][i];
+  }
+  OIIO::ImageSpec spec(im.width, im.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = names;
+  spec.attribute("compression", "zip");
+  std::string thresholds;
+  for (float t : im.thresholds) thresholds += (thresholds.empty() ? "" : " ") + std::to_string(t);
+  spec.attribute("skypol:classic_thresholds", thresholds);
+  const std::string tmp = path + ".tmp";
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
+    std::remove(tmp.c_str());
+    throw std::invalid_argument("cannot write " + path + ": " + OIIO::geterror());
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::invalid_argument("cannot rename to " + path);
+}
+
+void print_json(const std::string& path, const render::Stack& stack, const skypole::PoleEstimate& e,
+                const skypole::Score& s) {
+  const render::Truth& t = stack.frames.at(0).truth;
+  std::printf("{\"stack\": %s, \"method\": \"%s\", \"frames\": %zu, \"seconds\": %.4f,\n", json_string(path).c_str(),
+              e.method.c_str(), stack.frames.size(), e.seconds);
+  std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
+              t.site.latitude_deg, s.latitude_error_deg);
+  std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %.6f, \"bearing_error_deg\": %s,\n",
+              number_or_null(e.heading_deg, 6).c_str(), t.heading_deg, number_or_null(s.bearing_error_deg, 6).c_str());
+  std::printf(" \"angular_error_deg\": %.6f, \"pole\": \"%s\", \"residual_deg\": %.6f, \"confidence\": %.4f,\n",
+              s.angular_error_deg, e.is_north ? "north" : "south", e.residual_deg, e.confidence);
+  std::printf(" \"note\": %s}", json_string(e.note).c_str());
+}
+
+void print_table(const render::Stack& stack, const skypole::PoleEstimate& e, const skypole::Score& s) {
+  const render::Truth& t = stack.frames.at(0).truth;
+  std::printf("method   %s (%.3f s)%s%s\n", e.method.c_str(), e.seconds, e.note.empty() ? "" : "; ", e.note.c_str());
   std::printf("%-24s %12s %12s %12s\n", "", "estimate", "truth", "error");
-  std::printf("%-24s %12.3f %12.3f %+12.3f\n", "latitude (deg)", e.latitude_deg, true_lat, s.latitude_error_deg);
+  std::printf("%-24s %12.3f %12.3f %+12.3f\n", "latitude (deg)", e.latitude_deg, t.site.latitude_deg,
+              s.latitude_error_deg);
   std::printf("%-24s %12s %12.3f %12s\n", "north bearing (deg)", number_or_null(e.heading_deg, 3).c_str(),
               t.heading_deg, number_or_null(s.bearing_error_deg, 3, true).c_str());
   std::printf("%-24s %12s %12s %12.3f\n", "pole on the sphere (deg)", e.is_north ? "north" : "south",
               t.pole_is_north ? "north" : "south", s.angular_error_deg);
 }
 
+}  // namespace
+
+std::vector<std::string> estimator_channels(const std::string& path) {
+  const render::StackSummary s = render::peek_stack(path);
+  std::vector<std::string> want;
+  for (const std::string& c : s.channels) {
+    if (c == "mask" || c.rfind("DoLP.", 0) == 0 || c.rfind("AoLP.", 0) == 0) want.push_back(c);
+  }
+  return want;
+}
+
+std::vector<std::string> expand_methods(const std::vector<std::string>& names) {
+  const std::vector<std::string>& legal = skypole::method_names();
+  if (names.size() == 1 && names[0] == "all") return legal;
+  for (const std::string& m : names) {
+    if (std::find(legal.begin(), legal.end(), m) == legal.end()) {
+      std::string list;
+      for (const std::string& l : legal) list += (list.empty() ? "" : ", ") + l;
+      throw std::invalid_argument("unknown method '" + m + "' (expected one of " + list + ", or all)");
+    }
+  }
+  if (names.empty()) throw std::invalid_argument("no method given");
+  return names;
+}
+
+void print_estimate(const EstimateRequest& r) {
+  const std::vector<std::string> methods = expand_methods(r.methods);
+  if (!r.intermediates.empty() && methods != std::vector<std::string>{"classic"}) {
+    throw std::invalid_argument("--intermediates: only the classic method has intermediate images");
+  }
+  const render::Stack stack = render::read_stack(r.path, estimator_channels(r.path));
+  if (stack.frames.empty()) throw std::invalid_argument(r.path + ": the stack has no frames");
+  if (!r.json) {
+    std::printf("stack    %s (%zu frames, %dx%d)\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
+                stack.frames[0].height);
+  }
+  if (r.json && methods.size() > 1) std::printf("[");
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    skypole::PoleEstimate e;
+    if (!r.intermediates.empty()) {
+      skypole::ClassicParams p;
+      p.input = r.input;
+      p.keep_intermediates = true;
+      skypole::ClassicResult c = skypole::estimate_classic(stack, p);
+      write_intermediates(c.images, r.intermediates);
+      e = std::move(c.estimate);
+    } else {
+      e = skypole::run_method(stack, methods[i], r.input);
+    }
+    if (!e.valid) throw std::invalid_argument(r.path + ": " + methods[i] + " found no pole: " + e.why_invalid);
+    const skypole::Score s = skypole::score(e, stack.frames[0].truth);
+    if (r.json) {
+      if (i) std::printf(",\n");
+      print_json(r.path, stack, e, s);
+    } else {
+      print_table(stack, e, s);
+    }
+  }
+  if (r.json) std::printf(methods.size() > 1 ? "]\n" : "\n");
+}
+
 void add_estimate(CLI::App& app) {
   struct Args {
-    std::string stack;
-    std::string method = "classic";
-    bool json = false;
+    EstimateRequest request;
+    std::string hemisphere = "automatic";
   };
   auto a = std::make_shared<Args>();
+  std::string names;
+  for (const std::string& m : skypole::method_names()) names += (names.empty() ? "" : ", ") + m;
   CLI::App* est = app.add_subcommand("estimate", "Estimate north and latitude on a stack; score against its truth");
-  est->add_option("stack", a->stack, "A stack written by skypol render")->required();
-  est->add_option("-m,--method", a->method, "Estimator: classic (the SkyPole paper's)");
-  est->add_flag("--json", a->json, "Print the result as JSON");
-  est->callback([a] { print_estimate(a->stack, a->method, a->json); });
+  est->add_option("stack", a->request.path, "A stack written by skypol render")->required();
+  est->add_option("-m,--method", a->request.methods, "Estimators (" + names + ", or all); default classic")
+      ->delimiter(',');
+  est->add_option("--band", a->request.input.band, "Band whose DoLP is used (default: B if present, else the first)");
+  est->add_option("--hemisphere", a->hemisphere, "automatic, north or south (the observer's, if known)");
+  est->add_option("--min-elevation", a->request.input.min_elevation_deg,
+                  "Pixels lower than this (degrees, level frame) are ground and not used");
+  est->add_option("--intermediates", a->request.intermediates,
+                  "classic: write the step images (filtered, differences, binaries, sum, maximum) to this EXR");
+  est->add_flag("--json", a->request.json, "Print the result as JSON");
+  est->callback([a] {
+    a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
+    print_estimate(a->request);
+  });
 }
 
 }  // namespace skypol::cli

@@ -9,7 +9,8 @@ namespace skypol::cli {
 void add_render(CLI::App& app);    // render + run
 void add_info(CLI::App& app);
 void add_sun(CLI::App& app);
-void add_estimate(CLI::App& app);  // estimate + evaluate
+void add_estimate(CLI::App& app);
+void add_evaluate(CLI::App& app);
 void add_bench(CLI::App& app);
 
 // Progress on stderr, only when stderr is a terminal and not --quiet.

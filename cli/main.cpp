@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   skypol::cli::add_render(app);
   skypol::cli::add_estimate(app);
+  skypol::cli::add_evaluate(app);
   skypol::cli::add_info(app);
   skypol::cli::add_sun(app);
   skypol::cli::add_bench(app);

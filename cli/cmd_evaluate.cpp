@@ -1,0 +1,115 @@
+// `skypol evaluate DATASET…`: every method on every stack, scored into a CSV and a summary table
+// (mean, median, 95th percentile and maximum of each error, per method; skypole/evaluate.h).
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "cli/commands.h"
+#include "cli/estimate_report.h"
+#include "render/scene_error.h"
+#include "render/stack_io.h"
+#include "skypole/evaluate.h"
+
+namespace skypol::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Stacks named on the command line: files as given, folders searched recursively for *.exr,
+// sorted so that the CSV's row order does not depend on the file system. In folders, EXR files
+// that are not skypol stacks (e.g. classic intermediates) are skipped with a note on stderr.
+std::vector<std::string> find_stacks(const std::vector<std::string>& inputs) {
+  std::vector<std::string> stacks;
+  for (const std::string& in : inputs) {
+    if (fs::is_directory(in)) {
+      std::vector<std::string> found;
+      for (const auto& entry : fs::recursive_directory_iterator(in)) {
+        if (!entry.is_regular_file() || entry.path().extension() != ".exr") continue;
+        try {
+          (void)render::peek_stack(entry.path().string());
+          found.push_back(entry.path().string());
+        } catch (const render::SceneError& e) {
+          std::fprintf(stderr, "skipped: %s\n", e.what());
+        }
+      }
+      std::sort(found.begin(), found.end());
+      if (found.empty()) throw std::invalid_argument(in + ": no .exr stacks in this folder");
+      stacks.insert(stacks.end(), found.begin(), found.end());
+    } else if (fs::is_regular_file(in)) {
+      stacks.push_back(in);
+    } else {
+      throw std::invalid_argument(in + ": no such file or folder");
+    }
+  }
+  return stacks;
+}
+
+// Written whole or not at all.
+void write_text(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::invalid_argument("cannot write " + path);
+    }
+  }
+  fs::rename(tmp, path);
+}
+
+}  // namespace
+
+void add_evaluate(CLI::App& app) {
+  struct Args {
+    std::vector<std::string> inputs;
+    std::vector<std::string> methods{"all"};
+    std::string rows_csv, summary_csv;
+    skypole::InputOptions input;
+    std::string hemisphere = "automatic";
+    bool quiet = false;
+  };
+  auto a = std::make_shared<Args>();
+  CLI::App* ev = app.add_subcommand("evaluate", "Score estimators on many stacks: a CSV and a summary table");
+  ev->add_option("dataset", a->inputs, "Stacks, or folders searched recursively for *.exr")->required();
+  ev->add_option("-m,--method", a->methods, "Estimators (comma-separated, or all; default all)")->delimiter(',');
+  ev->add_option("--csv", a->rows_csv, "Write one row per (stack, method) to this CSV");
+  ev->add_option("--summary", a->summary_csv, "Write the per-method summary to this CSV");
+  ev->add_option("--band", a->input.band, "Band whose DoLP is used (default: B if present, else the first)");
+  ev->add_option("--hemisphere", a->hemisphere, "automatic, north or south");
+  ev->add_flag("-q,--quiet", a->quiet, "No per-stack progress on stderr");
+  ev->callback([a] {
+    a->input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
+    const std::vector<std::string> methods = expand_methods(a->methods);
+    const std::vector<std::string> stacks = find_stacks(a->inputs);
+    std::vector<skypole::EvaluationRow> rows;
+    for (std::size_t i = 0; i < stacks.size(); ++i) {
+      const render::Stack stack = render::read_stack(stacks[i], estimator_channels(stacks[i]));
+      if (stack.frames.empty()) throw std::invalid_argument(stacks[i] + ": the stack has no frames");
+      for (const std::string& m : methods) {
+        skypole::EvaluationRow row;
+        row.dataset = stacks[i];
+        row.truth = stack.frames[0].truth;
+        try {
+          row.estimate = skypole::run_method(stack, m, a->input);
+        } catch (const std::invalid_argument& e) {
+          // Input this method cannot use (too few frames, …): counted as invalid, with the reason.
+          row.estimate.method = m;
+          row.estimate.valid = false;
+          row.estimate.why_invalid = e.what();
+        }
+        rows.push_back(std::move(row));
+      }
+      if (!a->quiet) std::fprintf(stderr, "[%zu/%zu] %s\n", i + 1, stacks.size(), stacks[i].c_str());
+    }
+    const std::vector<skypole::MethodSummary> summary = skypole::summarize(rows);
+    if (!a->rows_csv.empty()) write_text(a->rows_csv, skypole::rows_csv(rows));
+    if (!a->summary_csv.empty()) write_text(a->summary_csv, skypole::summary_csv(summary));
+    std::printf("%zu stack(s), %zu method(s)\n%s", stacks.size(), methods.size(),
+                skypole::summary_text(summary).c_str());
+  });
+}
+
+}  // namespace skypol::cli

@@ -1,0 +1,99 @@
+// `skypol estimate` with every method, its options and intermediates; `skypol evaluate` on a
+// folder; a scene with a [sensor] section end to end.
+#include <catch2/catch.hpp>
+
+#include <sstream>
+
+#include "cli/cli_harness.h"
+
+using skypol::test::Result;
+using skypol::test::run;
+using skypol::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The SkyPole set-up at 1/8 of the paper's resolution, every hour, with the sensor's noise.
+const char* kNoisyScene = R"([site]
+latitude_deg = -33.86
+longitude_deg = 151.21
+
+[time]
+start = "2022-12-01T21:00:00Z"
+end = "2022-12-02T05:00:00Z"
+step_min = 60
+
+[camera]
+lens_preset = "fujinon_fe185c057ha1"
+sensor_preset = "sony_imx250mzr"
+binning = 8
+heading_deg = 200
+
+[sky]
+max_dolp = 0.7
+
+[sensor]
+preset = "sony_imx250mzr"
+exposure_us = 4000
+)";
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("estimate runs every method on a noisy southern stack; evaluate scores a folder", "[cli]") {
+  TempDir dir;
+  const std::string scene = dir.write("sydney.toml", kNoisyScene);
+  const std::string stack = (dir.path / "data" / "sydney.exr").string();
+  fs::create_directories(dir.path / "data");
+  const Result r = run("render -q " + scene + " -o " + stack);
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+
+  const Result all = run("estimate " + stack + " -m all --json");
+  INFO(all.out);
+  REQUIRE(all.code == 0);
+  CHECK(all.out.front() == '[');
+  CHECK(count(all.out, "\"method\": ") == 6);
+  CHECK(count(all.out, "\"pole\": \"south\"") == 6);  // Sydney sees the south celestial pole
+  CHECK(count(all.out, "\"true_latitude_deg\": -33.860000") == 6);
+
+  // The sun-vector method (AoLP of every pixel) is within a degree even with sensor noise.
+  const Result sv = run("estimate " + stack + " -m sun_vector --json");
+  REQUIRE(sv.code == 0);
+  CHECK(std::abs(std::stod(sv.out.substr(sv.out.find("\"angular_error_deg\": ") + 21))) < 1.0);
+
+  const std::string inter = (dir.path / "classic.exr").string();
+  const Result ci = run("estimate " + stack + " --intermediates " + inter);
+  INFO(ci.out);
+  REQUIRE(ci.code == 0);
+  CHECK(fs::exists(inter));
+  CHECK(run("info " + inter).code == 2);  // not a stack: refused with a reason
+
+  const std::string rows = (dir.path / "rows.csv").string(), summary = (dir.path / "summary.csv").string();
+  const Result ev = run("evaluate -q " + (dir.path / "data").string() + " -m classic,sun_dolp --csv " + rows +
+                        " --summary " + summary);
+  INFO(ev.out);
+  REQUIRE(ev.code == 0);
+  CHECK_THAT(ev.out, Catch::Contains("1 stack(s), 2 method(s)"));
+  std::ifstream in(rows);
+  std::stringstream text;
+  text << in.rdbuf();
+  CHECK(count(text.str(), "\n") == 3);  // header + 2 rows
+  CHECK_THAT(text.str(), Catch::StartsWith("dataset,method,valid,"));
+  CHECK(fs::exists(summary));
+}
+
+TEST_CASE("estimate and evaluate refuse what they cannot use", "[cli][errors]") {
+  TempDir dir;
+  CHECK_THAT(run("estimate x.exr -m classic,astrology").out, Catch::Contains("unknown method 'astrology'"));
+  CHECK_THAT(run("estimate x.exr -m all --intermediates y.exr").out, Catch::Contains("only the classic"));
+  const Result e = run("evaluate " + dir.path.string());
+  CHECK(e.code == 2);
+  CHECK_THAT(e.out, Catch::Contains("no .exr stacks"));
+  CHECK(run("estimate x.exr --hemisphere up").code == 2);
+}
