@@ -11,6 +11,7 @@ void add_info(CLI::App& app);
 void add_sun(CLI::App& app);
 void add_estimate(CLI::App& app);
 void add_evaluate(CLI::App& app);
+void add_lens(CLI::App& app);
 void add_bench(CLI::App& app);
 
 // Progress on stderr, only when stderr is a terminal and not --quiet.

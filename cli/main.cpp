@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_evaluate(app);
   skypol::cli::add_info(app);
   skypol::cli::add_sun(app);
+  skypol::cli::add_lens(app);
   skypol::cli::add_bench(app);
   try {
     app.parse(argc, argv);

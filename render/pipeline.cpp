@@ -32,7 +32,9 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
   ro.seed = scene.render.seed;
   ro.bands = scene.render.bands;
   ro.channels = scene.output.channels;
-  const std::vector<std::string> written = channel_names(ro);
+  std::vector<std::string> written = channel_names(ro);
+  const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
+  if (keep_raw) written.emplace_back("raw");
   // A sensor measures S0, S1, S2 whatever the file keeps; what it does not keep is dropped after.
   if (scene.sensor) {
     for (const char* s : {"S0", "S1", "S2"}) {
@@ -58,7 +60,7 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
     const auto t0 = Clock::now();
     Frame f = renderer.render(*sky, truths[i].sun);
     if (scene.sensor) {
-      apply_sensor(*scene.sensor, scene.render.bands, i, f);
+      apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
       std::erase_if(f.channels, [&](const auto& c) {
         return std::find(written.begin(), written.end(), c.first) == written.end();
       });

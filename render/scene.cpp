@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <algorithm>
+#include <cstdio>
 #include <limits>
+#include <numbers>
 
 
 namespace skypol::render {
@@ -13,6 +15,21 @@ sky::Instant instant_at(Fields& f, std::string_view key, const std::string& text
     return sky::parse_iso8601(text);
   } catch (const std::invalid_argument& e) {
     f.fail(key, e.what());
+  }
+}
+
+// The sky models are daylight skies: a scene whose every frame has the sun below the horizon is
+// refused plainly (one night frame among day frames is fine: it renders the model's limit).
+void require_daylight(const Scene& scene, const Fields& time) {
+  double highest = -90;
+  for (sky::Instant t : scene.times) {
+    highest = std::max(highest, sky::sun_position(scene.site, t, scene.sun_options).elevation * 180 / std::numbers::pi);
+  }
+  if (highest < 0) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "the sun is below the horizon in every frame (highest elevation %.1f deg): "
+                  "nothing but night to render", highest);
+    time.fail(time.has("instants") ? "instants" : "start", msg);
   }
 }
 
@@ -68,6 +85,7 @@ Scene scene_from_source(const SceneSource& source) {
   if (!time) top.fail("time", "missing section [time] (instants, or start/end/step_min)");
   scene.times = read_times(*time);
   time->finish();
+  require_daylight(scene, *time);
 
   std::optional<Fields> cam = top.table("camera");
   if (!cam) top.fail("camera", "missing section [camera]");
@@ -104,10 +122,11 @@ Scene scene_from_source(const SceneSource& source) {
     scene.output.path = o->string("path", scene.output.path);
     scene.output.channels = o->strings("channels", scene.output.channels);
     for (const std::string& ch : scene.output.channels) {
-      static const std::vector<std::string> legal{"S0", "S1", "S2", "S3", "DoLP", "AoLP", "mask"};
+      static const std::vector<std::string> legal{"S0", "S1", "S2", "S3", "DoLP", "AoLP", "mask", "raw"};
       if (std::find(legal.begin(), legal.end(), ch) == legal.end()) {
-        o->fail("channels", "unknown channel '" + ch + "' (expected S0, S1, S2, S3, DoLP, AoLP, mask)");
+        o->fail("channels", "unknown channel '" + ch + "' (expected S0, S1, S2, S3, DoLP, AoLP, mask, raw)");
       }
+      if (ch == "raw" && !scene.sensor) o->fail("channels", "'raw' is the sensor's mosaic: it needs a [sensor] section");
     }
     scene.output.half = o->choice("pixel_type", "float", {"float", "half"}) == "half";
     scene.output.compression = o->choice("compression", "zip", {"none", "zip", "zips", "piz", "rle", "pxr24", "b44", "dwaa"});

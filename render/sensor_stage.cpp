@@ -41,7 +41,7 @@ std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
 }
 
 void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
-                  Frame& frame) {
+                  Frame& frame, bool keep_raw) {
   const camera::DofpSensor& d = sensor.dofp;
   if (frame.width != d.width || frame.height != d.height) {
     throw std::invalid_argument("sensor: the frame's size differs from the sensor's");
@@ -53,6 +53,7 @@ void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& band
     const std::vector<std::uint16_t> raw = camera::simulate_raw(d, frame.channel("S0." + b), frame.channel("S1." + b),
                                                                 frame.channel("S2." + b), frame_index);
     finish_band(b, mask, camera::demosaic_bilinear(d, raw, sensor.demosaic), frame);
+    if (keep_raw) frame.channels["raw"] = std::vector<float>(raw.begin(), raw.end());
     return;
   }
   if (bands != std::vector<std::string>{"R", "G", "B"}) {
@@ -65,6 +66,7 @@ void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& band
   const std::vector<std::uint16_t> raw = camera::simulate_raw_color(d, rgb, frame_index);
   std::array<camera::StokesPlanes, 3> measured = camera::demosaic_color_bilinear(d, raw, sensor.demosaic);
   for (std::size_t i = 0; i < 3; ++i) finish_band(bands[i], mask, std::move(measured[i]), frame);
+  if (keep_raw) frame.channels["raw"] = std::vector<float>(raw.begin(), raw.end());
 }
 
 }  // namespace skypol::render

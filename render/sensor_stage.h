@@ -20,9 +20,10 @@ std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands);
 
 // Replaces S0/S1/S2 (and DoLP/AoLP, if present) of every band by the measured ones. `frame_index`
 // keys the noise: the same scene gives the same noisy frames on any machine and thread count.
+// keep_raw: also store the raw mosaic (DN, exact in float) as channel "raw".
 // Mono sensors need one band; colour (rggb_blocks) sensors need bands R, G, B. Throws
 // std::invalid_argument otherwise (the scene loader checks this first).
 void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
-                  Frame& frame);
+                  Frame& frame, bool keep_raw = false);
 
 }  // namespace skypol::render

@@ -32,6 +32,10 @@
 namespace skypol::render {
 namespace {
 
+// The mask is a coverage fraction (half would round 1/spp steps) and raw holds 12–16-bit counts
+// (half is exact only to 2048): both stay float whatever the pixel type.
+bool stays_float(const std::string& channel) { return channel == "mask" || channel == "raw"; }
+
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
 Imf::Compression compression_of(const std::string& name) {
@@ -67,8 +71,7 @@ Imf::Header part_header(const Truth& t, const std::vector<std::string>& channels
   h.compression() = compression_of(o.compression);
   const bool half = o.half;
   for (const std::string& c : channels) {
-    // The mask stays float: it is a coverage fraction, and half would round 1/spp steps.
-    h.channels().insert(c, Imf::Channel(half && c != "mask" ? Imf::HALF : Imf::FLOAT));
+    h.channels().insert(c, Imf::Channel(half && !stays_float(c) ? Imf::HALF : Imf::FLOAT));
   }
   // OpenEXR's standard attributes where they exist (capDate in UTC, so utcOffset = 0).
   Imf::addLatitude(h, static_cast<float>(t.site.latitude_deg));
@@ -181,7 +184,7 @@ void write_stack(const std::string& path, const std::vector<Truth>& truths, cons
         for (const std::string& c : channels) {
           std::vector<float>& data = frame.channel(c);
           if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
-          if (options.half && c != "mask") {
+          if (options.half && !stays_float(c)) {
             half_buffers.emplace_back(data.begin(), data.end());
             fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers.back().data()), sizeof(Imath::half),
                                     sizeof(Imath::half) * static_cast<std::size_t>(width)));

@@ -171,3 +171,28 @@ TEST_CASE("sensor keys: a preset, overrides, and the errors of a sensor that can
   CHECK_THAT(error_of(kHead + cam + "[sensor]\npreset = \"nikon\"\n"),
              Catch::Contains("sensor.preset") && Catch::Contains("sony_imx250mzr"));
 }
+
+TEST_CASE("a scene of night frames only is refused, naming its time key", "[scene][errors]") {
+  // Marseille at 22:00–23:00 UTC in September: the sun is far below the horizon.
+  const std::string e = error_of(R"([site]
+latitude_deg = 43.28699
+longitude_deg = 5.40336
+[time]
+start = "2022-09-23T22:00:00Z"
+end = "2022-09-23T23:00:00Z"
+step_min = 30
+[camera]
+fx = 20
+width = 64
+height = 64
+)");
+  CHECK_THAT(e, Catch::StartsWith("bad.toml:5:") && Catch::Contains("time.start") && Catch::Contains("below the horizon"));
+}
+
+TEST_CASE("the raw mosaic is a channel only with a sensor", "[scene][sensor][errors]") {
+  const std::string cam = "[camera]\nfx = 20\nwidth = 64\nheight = 48\n";
+  const auto s = parse_scene(kHead + cam + "[sensor]\n[output]\nchannels = [\"DoLP\", \"raw\"]\n", "raw.toml");
+  CHECK(s.output.channels.back() == "raw");
+  CHECK_THAT(error_of(kHead + cam + "[output]\nchannels = [\"DoLP\", \"raw\"]\n"),
+             Catch::Contains("output.channels") && Catch::Contains("needs a [sensor]"));
+}

@@ -56,7 +56,12 @@ TEST_CASE("a noise-free sensor returns the field's DoLP and AoLP", "[sensor]") {
   s.dofp.dark_current_e_s = 0;
   // DoLP 0.5, AoLP ½·atan2(0.4, 0.3) = 26.57°.
   render::Frame f = uniform_frame(32, 32, 1.0f, 0.3f, 0.4f);
-  render::apply_sensor(s, {"Y"}, 0, f);
+  render::apply_sensor(s, {"Y"}, 0, f, /*keep_raw=*/true);
+  // Pixel (0,0) sits behind the 90° polarizer: ½(S0 − S1) = 0.35 → 1750 e- → 437.5 DN; (0,1) the
+  // 45° one: ½(S0 + S2) = 0.7 → 875 DN.
+  const std::vector<float>& raw = f.channel("raw");
+  CHECK(raw[0] == Approx(437.5).margin(0.5));
+  CHECK(raw[1] == Approx(875).margin(0.5));
   CHECK(mean_inner(f.channel("DoLP.Y"), 32, 32) == Approx(0.5).margin(2e-3));  // 16-bit quantization
   CHECK(mean_inner(f.channel("AoLP.Y"), 32, 32) == Approx(0.5 * std::atan2(0.4, 0.3)).margin(2e-3));
   CHECK(mean_inner(f.channel("S0.Y"), 32, 32) == Approx(1.0).margin(2e-3));
