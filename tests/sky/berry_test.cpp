@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <random>
 #include <vector>
 
@@ -12,37 +11,18 @@
 
 #include "sky/berry.h"
 #include "sky/rayleigh.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-Sun sun_at(double azimuth_deg, double elevation_deg) {
-  Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
-}
-
-Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& d) {
-  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  return (a - a.dot(d) * d).normalized();
-}
-
-Eigen::Vector3d random_unit(std::mt19937_64& rng) {
-  std::normal_distribution<double> n;
-  return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-}
-
 // Total turn of the E-vector line field (in units of full turns) along a small circle of
 // angular radius r around the point c, walked counter-clockwise about c as seen from outside the
 // sphere. The angle is measured in a basis parallel-transported along with the walk (e0 = the
 // fixed vector t projected onto each tangent plane), so a regular field gives 0.
 double line_field_index(const SkyModel& m, const Sun& sun, const Eigen::Vector3d& c, double r) {
-  const Eigen::Vector3d t = any_perpendicular(c), u = c.cross(t);
+  const Eigen::Vector3d t = perpendicular(c), u = c.cross(t);
   const int n = 720;
   double total = 0, prev = 0;
   for (int k = 0; k <= n; ++k) {
@@ -69,8 +49,7 @@ TEST_CASE("zero separation reproduces the Rayleigh sky to 1e-9", "[berry]") {
       sun.direction = random_unit(rng);
       sun.azimuth = azimuth_of(sun.direction);
       const Eigen::Vector3d d = random_unit(rng);
-      Eigen::Vector3d e0 = random_unit(rng);
-      e0 = (e0 - e0.dot(d) * d).normalized();
+      const Eigen::Vector3d e0 = random_perpendicular(d, rng);
       const Stokes b = berry.stokes(d, e0, sun), r = rayleigh.stokes(d, e0, sun);
       CHECK(std::abs(b.s0 - r.s0) < 1e-9);
       CHECK(std::abs(b.s1 - r.s1) < 1e-9);
@@ -96,7 +75,7 @@ TEST_CASE("neutral points: on the solar vertical, unpolarized, Babinet above the
     if (el < 90) CHECK(elevation_of(babinet) / kDeg == Approx(90 - std::abs(70 - el)).margin(1e-9));
     CHECK(elevation_of(brewster) / kDeg == Approx(el - 20).margin(1e-9));
     for (const Eigen::Vector3d& p : {babinet, brewster, Eigen::Vector3d(-babinet), Eigen::Vector3d(-brewster)}) {
-      const Stokes s = berry.stokes(p, any_perpendicular(p), sun);
+      const Stokes s = berry.stokes(p, perpendicular(p), sun);
       CHECK(std::abs(s.s1) < 1e-14);
       CHECK(std::abs(s.s2) < 1e-14);
       CHECK(s.s0 > 0);
@@ -129,22 +108,19 @@ TEST_CASE("DoLP stays within [0, Pmax], is mirror-symmetric about the solar vert
   double max_seen = 0;
   for (int i = 0; i < 4000; ++i) {
     const Eigen::Vector3d d = random_unit(rng);
-    const double p = berry.stokes(d, any_perpendicular(d), sun).dolp();
+    const double p = berry.stokes(d, perpendicular(d), sun).dolp();
     CHECK(p >= 0.0);
     CHECK(p <= 0.7 + 1e-12);
     max_seen = std::max(max_seen, p);
     const Eigen::Vector3d mirrored = d - 2 * d.dot(normal) * normal;
-    CHECK(berry.stokes(mirrored, any_perpendicular(mirrored), sun).dolp() == Approx(p).margin(1e-12));
-    rays.push_back({d.cast<float>(), any_perpendicular(d).cast<float>()});
+    CHECK(berry.stokes(mirrored, perpendicular(mirrored), sun).dolp() == Approx(p).margin(1e-12));
+    rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
   }
   CHECK(max_seen > 0.69);  // the maximum is still reached (on the great circle 90° from the sun)
-  std::vector<StokesF> out(rays.size());
-  berry.stokes(rays, sun, out);
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const Stokes ref = berry.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
-    CHECK(out[i].s0 == Approx(ref.s0).margin(2e-6));
-    CHECK(out[i].s1 == Approx(ref.s1).margin(2e-6));
-    CHECK(out[i].s2 == Approx(ref.s2).margin(2e-6));
+  for (const auto& [batch, scalar] : batch_and_scalar(berry, rays, sun)) {
+    CHECK(batch.s0 == Approx(scalar.s0).margin(2e-6));
+    CHECK(batch.s1 == Approx(scalar.s1).margin(2e-6));
+    CHECK(batch.s2 == Approx(scalar.s2).margin(2e-6));
   }
 }
 
@@ -155,7 +131,7 @@ TEST_CASE("berry hard cases: sun at the zenith and below the horizon are finite"
     for (double az = 0; az < 360; az += 20) {
       for (double vel = -90; vel <= 90; vel += 10) {
         const Eigen::Vector3d d = enu_direction(az * kDeg, vel * kDeg);
-        const Stokes s = berry.stokes(d, any_perpendicular(d), sun);
+        const Stokes s = berry.stokes(d, perpendicular(d), sun);
         CHECK(std::isfinite(s.s1));
         CHECK(std::isfinite(s.s2));
         CHECK(s.dolp() <= 0.8 + 1e-12);

@@ -4,24 +4,17 @@
 
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <random>
 #include <vector>
 
 #include "sky/clouds.h"
 #include "sky/rayleigh.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& d) {
-  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  return (a - a.dot(d) * d).normalized();
-}
-
 std::vector<Eigen::Vector3d> random_directions(int n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g;
@@ -36,14 +29,6 @@ CloudySky clouds(double coverage, std::uint64_t seed, double scale_deg = 15) {
   p.seed = seed;
   p.scale_deg = scale_deg;
   return CloudySky(std::make_unique<RayleighSky>(RayleighParams{0.8}), p);
-}
-
-Sun sun_at(double azimuth_deg, double elevation_deg) {
-  Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
 }
 }  // namespace
 
@@ -112,13 +97,10 @@ TEST_CASE("cloudy batch path equals the scalar path", "[clouds][batch]") {
   const Sun sun = sun_at(10, 50);
   std::vector<ViewRay> rays;
   for (const Eigen::Vector3d& d : random_directions(1500, 6)) rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
-  std::vector<StokesF> out(rays.size());
-  sky.stokes(rays, sun, out);
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const Stokes ref = sky.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
-    CHECK(out[i].s0 == Approx(ref.s0).epsilon(1e-5));
-    CHECK(out[i].s1 == Approx(ref.s1).margin(1e-5));
-    CHECK(out[i].s2 == Approx(ref.s2).margin(1e-5));
+  for (const auto& [batch, scalar] : batch_and_scalar(sky, rays, sun)) {
+    CHECK(batch.s0 == Approx(scalar.s0).epsilon(1e-5));
+    CHECK(batch.s1 == Approx(scalar.s1).margin(1e-5));
+    CHECK(batch.s2 == Approx(scalar.s2).margin(1e-5));
   }
 }
 

@@ -4,33 +4,18 @@
 
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <random>
 #include <vector>
 
 #include "sky/berry.h"
 #include "sky/intensity.h"
 #include "sky/rayleigh.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-Sun sun_at(double azimuth_deg, double elevation_deg) {
-  Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
-}
-
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& d) {
-  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  return (a - a.dot(d) * d).normalized();
-}
-
 IntensityParams preetham(double t) {
   IntensityParams p;
   p.model = IntensityModel::preetham;
@@ -115,15 +100,12 @@ TEST_CASE("intensity batch path equals the scalar path", "[intensity][batch]") {
                                      enu_direction(1.0, 0.0), enu_direction(2.0, -0.3), Eigen::Vector3d(0, 0, -1)}) {
       rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
     }
-    std::vector<StokesF> out(rays.size());
-    sky.stokes(rays, sun, out);
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      const Stokes ref = sky.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
-      // The batch path uses float polynomial acos/exp (vectorizable), the scalar path libm.
-      CHECK(std::isfinite(out[i].s0));
-      CHECK(out[i].s0 == Approx(ref.s0).epsilon(2e-5));
-      CHECK(out[i].s1 == Approx(ref.s1).margin(2e-5 * ref.s0));
-      CHECK(out[i].s2 == Approx(ref.s2).margin(2e-5 * ref.s0));
+    // The batch path uses float polynomial acos/exp (vectorizable), the scalar path libm.
+    for (const auto& [batch, scalar] : batch_and_scalar(sky, rays, sun)) {
+      CHECK(std::isfinite(batch.s0));
+      CHECK(batch.s0 == Approx(scalar.s0).epsilon(2e-5));
+      CHECK(batch.s1 == Approx(scalar.s1).margin(2e-5 * scalar.s0));
+      CHECK(batch.s2 == Approx(scalar.s2).margin(2e-5 * scalar.s0));
     }
   }
 }

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -14,21 +13,12 @@
 #include <Eigen/Geometry>
 
 #include "sky/rayleigh.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
-Sun sun_at(double azimuth_deg, double elevation_deg) {
-  Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
-}
-
 // The local-meridian basis: e0 along the meridian towards the zenith (North at the zenith itself).
 Eigen::Vector3d meridian_e0(const Eigen::Vector3d& d) {
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ() - d.z() * d;
@@ -37,13 +27,6 @@ Eigen::Vector3d meridian_e0(const Eigen::Vector3d& d) {
 }
 
 Stokes eval(const SkyModel& m, const Eigen::Vector3d& d, const Sun& s) { return m.stokes(d, meridian_e0(d), s); }
-
-double axial_diff(double a, double b) { return std::remainder(a - b, kPi); }
-
-Eigen::Vector3d random_unit(std::mt19937_64& rng) {
-  std::normal_distribution<double> n;
-  return Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-}
 }  // namespace
 
 TEST_CASE("DoLP is Pmax sin^2(g)/(1+cos^2(g)) with g from Sun et al.'s spherical formula", "[rayleigh][paper]") {
@@ -117,9 +100,8 @@ TEST_CASE("the E-vector is perpendicular to the sun and to the view", "[rayleigh
     Sun sun;
     sun.direction = random_unit(rng);
     const Eigen::Vector3d d = random_unit(rng);
-    // Any basis, not only the meridian one: e0 = a random vector made ⟂ d.
-    Eigen::Vector3d e0 = random_unit(rng);
-    e0 = (e0 - e0.dot(d) * d).normalized();
+    // Any basis, not only the meridian one.
+    const Eigen::Vector3d e0 = random_perpendicular(d, rng);
     const Stokes s = sky.stokes(d, e0, sun);
     if (s.dolp() < 1e-6) continue;
     const Eigen::Vector3d e = std::cos(s.aolp()) * e0 + std::sin(s.aolp()) * d.cross(e0);
@@ -227,19 +209,15 @@ TEST_CASE("the batch path equals the scalar path to float precision", "[rayleigh
   std::vector<ViewRay> rays(1003);  // not a multiple of any vector width
   for (ViewRay& r : rays) {
     const Eigen::Vector3d d = random_unit(rng);
-    Eigen::Vector3d e0 = random_unit(rng);
-    e0 = (e0 - e0.dot(d) * d).normalized();
+    const Eigen::Vector3d e0 = random_perpendicular(d, rng);
     r.d = d.cast<float>();
     r.e0 = e0.cast<float>();
   }
-  std::vector<StokesF> out(rays.size());
-  sky.stokes(rays, sun, out);
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const Stokes ref = sky.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
-    CHECK(out[i].s0 == Approx(ref.s0).margin(2e-6));
-    CHECK(out[i].s1 == Approx(ref.s1).margin(2e-6));
-    CHECK(out[i].s2 == Approx(ref.s2).margin(2e-6));
-    CHECK(out[i].s3 == 0.0f);
+  for (const auto& [batch, scalar] : batch_and_scalar(sky, rays, sun)) {
+    CHECK(batch.s0 == Approx(scalar.s0).margin(2e-6));
+    CHECK(batch.s1 == Approx(scalar.s1).margin(2e-6));
+    CHECK(batch.s2 == Approx(scalar.s2).margin(2e-6));
+    CHECK(batch.s3 == 0.0f);
   }
 }
 

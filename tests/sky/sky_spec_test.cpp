@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -16,20 +15,12 @@
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
 #include "sky/sun_disc.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-Sun sun_at(double azimuth_deg, double elevation_deg) {
-  Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
-}
-
 // The message of the std::invalid_argument that make_sky throws for a spec ("" if none).
 std::string error_of(const SkySpec& spec) {
   try {

@@ -6,17 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
-#include <numbers>
 
 #include "sky/rayleigh.h"
 #include "sky/sun.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
 // SI eq. 1: the sun in ENU from latitude, declination and hour angle (radians).
 Sun sun_from(double phi, double dec, double ha) {
   Sun s;
@@ -33,8 +31,7 @@ Eigen::Vector3d point(double alpha, double theta) {
 }
 
 double dolp(const RayleighSky& sky, const Eigen::Vector3d& p, const Sun& sun) {
-  const Eigen::Vector3d a = std::abs(p.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  return sky.stokes(p, (a - a.dot(p) * p).normalized(), sun).dolp();
+  return sky.stokes(p, perpendicular(p), sun).dolp();
 }
 }  // namespace
 

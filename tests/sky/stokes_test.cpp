@@ -2,25 +2,20 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <numbers>
 
 #include "sky/stokes.h"
+#include "sky_test_util.h"
 
 using skypol::sky::from_polarization;
 using skypol::sky::rotate_reference;
 using skypol::sky::Stokes;
+using namespace skypol::testing;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
 // Radiance behind an ideal linear polarizer at angle theta from e0 towards e90.
 double through_polarizer(const Stokes& s, double theta) {
   return 0.5 * (s.s0 + s.s1 * std::cos(2 * theta) + s.s2 * std::sin(2 * theta));
 }
-
-// Difference of two axial angles (period π), in (−π/2, π/2].
-double axial_diff(double a, double b) { return std::remainder(a - b, kPi); }
 }  // namespace
 
 TEST_CASE("rotating the basis of [1,1,0,0] by 45 degrees gives [1,0,-1,0]", "[stokes]") {

@@ -3,32 +3,16 @@
 
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <vector>
 
 #include "sky/clouds.h"
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
 #include "sky/sun_disc.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
-
-namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
-
-Sun sun_at(double azimuth_deg, double elevation_deg) {
-  Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
-}
-
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& d) {
-  const Eigen::Vector3d a = std::abs(d.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  return (a - a.dot(d) * d).normalized();
-}
-}  // namespace
+using namespace skypol::testing;
 
 TEST_CASE("the disc adds unpolarized radiance within 0.2666 degrees of the sun", "[sun_disc]") {
   const SunDiscSky sky(std::make_unique<RayleighSky>(RayleighParams{0.8}), 1e5);
@@ -86,15 +70,13 @@ TEST_CASE("disc batch path equals the scalar path", "[sun_disc][batch]") {
     const Eigen::Vector3d d = enu_direction(33 * kDeg, (12 + off) * kDeg);
     rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
   }
-  std::vector<StokesF> out(rays.size());
-  sky.stokes(rays, sun, out);
+  const std::vector<BatchAndScalar> both = batch_and_scalar(sky, rays, sun);
   int in_disc = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const Stokes ref = sky.stokes(rays[i].d.cast<double>(), rays[i].e0.cast<double>(), sun);
+  for (std::size_t i = 0; i < both.size(); ++i) {
     const double off = -0.5 + 0.01 * static_cast<double>(i);
     if (std::abs(std::abs(off) - kSunAngularRadiusDeg) < 0.002) continue;  // float vs double at the rim
-    CHECK(out[i].s0 == Approx(ref.s0).epsilon(1e-5));
-    in_disc += ref.s0 > 100 ? 1 : 0;
+    CHECK(both[i].batch.s0 == Approx(both[i].scalar.s0).epsilon(1e-5));
+    in_disc += both[i].scalar.s0 > 100 ? 1 : 0;
   }
   CHECK(in_disc == 53);  // −0.26° … +0.26° in 0.01° steps
   CHECK_THROWS_WITH(SunDiscSky(std::make_unique<RayleighSky>(), -1), Catch::Contains("sun_disc_radiance"));
