@@ -8,26 +8,17 @@
 #include "camera/camera.h"
 #include "camera/orientation.h"
 #include "camera/radial_lens.h"
+#include "camera_test_util.h"
 
 using namespace skypol::camera;
+using namespace skypol::testing;
 
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180;
-constexpr double kF = 521.739;
 
 std::shared_ptr<const Lens> fisheye185() {
-  Intrinsics k;
-  k.fx = k.fy = kF;
-  k.cx = 1223.5;
-  k.cy = 1023.5;
-  k.width = 2448;
-  k.height = 2048;
-  return std::make_shared<RadialLens>(Mapping::equidistant, k, 92.5 * kDeg);
-}
-
-Eigen::Vector3d dir(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+  return std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kDeg);
 }
 
 // The pixel that sees camera-frame direction (θ, φ) on the equidistant lens (by hand).

@@ -16,29 +16,15 @@
 #include "camera/ocam_lens.h"
 #include "camera/radial_lens.h"
 #include "camera/tabulated_lens.h"
+#include "camera_test_util.h"
 
 using namespace skypol::camera;
+using namespace skypol::testing;
 
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180;
-constexpr double kF = 521.739;  // Fujinon FE185C057HA-1 (1.8 mm) on 3.45 µm pixels
 const std::string kOcamFile = std::string(SKYPOL_SOURCE_DIR) + "/tests/camera/data/ocam_calib_results.txt";
-
-Intrinsics imx250(double f = kF) {
-  Intrinsics k;
-  k.fx = f;
-  k.fy = f;
-  k.cx = 1223.5;
-  k.cy = 1023.5;
-  k.width = 2448;
-  k.height = 2048;
-  return k;
-}
-
-Eigen::Vector3d dir(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
 
 // Worst |project(ray(p)) − p| over pixels covering the whole image circle: the images of
 // directions on a dense (θ, φ) grid up to and including θmax, and every 5th sensor pixel that

@@ -6,34 +6,22 @@
 #include <stdexcept>
 
 #include "camera/radial_lens.h"
+#include "camera_test_util.h"
 
 using skypol::camera::Intrinsics;
 using skypol::camera::Mapping;
 using skypol::camera::RadialLens;
+using skypol::testing::dir;
+using skypol::testing::imx250;
 
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180;
-
-// A 2448×2048 sensor whose 185° equidistant image circle (r = f·92.5°) fits in 2048 rows.
-Intrinsics sensor(double f) {
-  Intrinsics k;
-  k.fx = k.fy = f;
-  k.cx = 1223.5;
-  k.cy = 1023.5;
-  k.width = 2448;
-  k.height = 2048;
-  return k;
-}
-
-Eigen::Vector3d dir(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
 }  // namespace
 
 TEST_CASE("a direction 90° off-axis lands at r = f·π/2 on an equidistant lens", "[lens]") {
   const double f = 521.739;
-  RadialLens lens(Mapping::equidistant, sensor(f), 92.5 * kDeg);
+  RadialLens lens(Mapping::equidistant, imx250(f), 92.5 * kDeg);
   // Towards camera +x (image right) and +y (image down).
   auto px = lens.project({1, 0, 0});
   REQUIRE(px);
@@ -60,7 +48,7 @@ TEST_CASE("each mapping puts 60° off-axis at its closed-form radius", "[lens]")
                         {Mapping::equisolid, 1.0, 92.5 * kDeg},
                         {Mapping::orthographic, std::sqrt(3.0) / 2, 90 * kDeg}};
   for (const auto& c : cases) {
-    RadialLens lens(c.m, sensor(f), c.tmax);
+    RadialLens lens(c.m, imx250(f), c.tmax);
     // φ = 135°: direction towards image up-left.
     auto p = lens.project(dir(60 * kDeg, 135 * kDeg));
     REQUIRE(p);
@@ -79,7 +67,7 @@ TEST_CASE("project(ray(p)) = p to 1e-6 px over the whole image circle, every map
                         {Mapping::equisolid, 92.5 * kDeg},
                         {Mapping::orthographic, 90 * kDeg}};
   for (const auto& c : cases) {
-    Intrinsics k = sensor(f);
+    Intrinsics k = imx250(f);
     k.fy = 1.01 * f;  // non-square pixels exercise fx ≠ fy
     RadialLens lens(c.m, k, c.tmax);
     const double r_max = lens.radius(c.tmax);
@@ -112,7 +100,7 @@ TEST_CASE("project(ray(p)) = p to 1e-6 px over the whole image circle, every map
 }
 
 TEST_CASE("ray of the corner pixels of a 185° fisheye is nullopt, never NaN", "[lens]") {
-  RadialLens lens(Mapping::equidistant, sensor(521.739), 92.5 * kDeg);
+  RadialLens lens(Mapping::equidistant, imx250(), 92.5 * kDeg);
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(0, 0), Eigen::Vector2d(2447, 2047),
                                   Eigen::Vector2d(NAN, 3), Eigen::Vector2d(1e300, -1e300)})
     CHECK_FALSE(lens.ray(p));
@@ -123,7 +111,7 @@ TEST_CASE("ray of the corner pixels of a 185° fisheye is nullopt, never NaN", "
 }
 
 TEST_CASE("non-physical radial lens parameters are rejected with the key named", "[lens]") {
-  Intrinsics k = sensor(500);
+  Intrinsics k = imx250(500);
   CHECK_THROWS_WITH(RadialLens(Mapping::perspective, k, 90 * kDeg),
                     Catch::Contains("perspective"));
   CHECK_THROWS_AS(RadialLens(Mapping::orthographic, k, 91 * kDeg), std::invalid_argument);
