@@ -73,17 +73,13 @@ double KannalaBrandtLens::distorted_derivative(double t) const {
 }
 
 std::optional<Eigen::Vector2d> KannalaBrandtLens::project(const Eigen::Vector3d& dir_cam) const {
-  const auto p = detail::polar_of(dir_cam);
-  if (!p || p->theta > theta_max_ + detail::kEdgeTol) return std::nullopt;
-  return detail::pixel_at(k_, distorted(std::min(p->theta, theta_max_)), *p);
+  return detail::project_radial(k_, theta_max_, dir_cam, [this](double t) { return distorted(t); });
 }
 
 std::optional<Eigen::Vector3d> KannalaBrandtLens::ray(const Eigen::Vector2d& pixel) const {
-  if (!pixel.allFinite()) return std::nullopt;
-  const double mx = (pixel.x() - k_.cx) / k_.fx;
-  const double my = (pixel.y() - k_.cy) / k_.fy;
-  const double r = std::hypot(mx, my);
-  if (r > r_max_ * (1 + detail::kEdgeTol)) return std::nullopt;
+  const auto m = detail::normalized_within(k_, pixel, r_max_);
+  if (!m) return std::nullopt;
+  const auto [mx, my, r] = *m;
   if (r == 0) return Eigen::Vector3d(0, 0, 1);
   const auto theta = detail::solve_increasing([this](double t) { return distorted(t); },
                                               [this](double t) { return distorted_derivative(t); },

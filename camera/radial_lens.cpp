@@ -38,8 +38,6 @@ const MappingInfo& info(Mapping m) {
   throw std::invalid_argument("unknown lens mapping");
 }
 
-using detail::kEdgeTol;
-
 }  // namespace
 
 Mapping parse_mapping(std::string_view name) {
@@ -92,19 +90,13 @@ double RadialLens::angle(double radius) const {
 }
 
 std::optional<Eigen::Vector2d> RadialLens::project(const Eigen::Vector3d& dir_cam) const {
-  const auto p = detail::polar_of(dir_cam);
-  if (!p || p->theta > theta_max_ + kEdgeTol) return std::nullopt;
-  return detail::pixel_at(k_, radius(std::min(p->theta, theta_max_)), *p);
+  return detail::project_radial(k_, theta_max_, dir_cam, [this](double t) { return radius(t); });
 }
 
 std::optional<Eigen::Vector3d> RadialLens::ray(const Eigen::Vector2d& pixel) const {
-  if (!pixel.allFinite()) return std::nullopt;
-  const double mx = (pixel.x() - k_.cx) / k_.fx;
-  const double my = (pixel.y() - k_.cy) / k_.fy;
-  const double r = std::hypot(mx, my);
-  const double r_max = radius(theta_max_);
-  if (r > r_max * (1 + kEdgeTol)) return std::nullopt;
-  return detail::direction(std::min(angle(r), theta_max_), mx, my, r);
+  const auto m = detail::normalized_within(k_, pixel, radius(theta_max_));
+  if (!m) return std::nullopt;
+  return detail::direction(std::min(angle(m->r), theta_max_), m->mx, m->my, m->r);
 }
 
 std::shared_ptr<const Lens> RadialLens::rescaled(double s) const {

@@ -122,18 +122,13 @@ double TabulatedLens::angle(double h) const {
 }
 
 std::optional<Eigen::Vector2d> TabulatedLens::project(const Eigen::Vector3d& dir_cam) const {
-  const auto p = detail::polar_of(dir_cam);
-  if (!p || p->theta > t_.theta.back() + detail::kEdgeTol) return std::nullopt;
-  return detail::pixel_at(k_, height(p->theta), *p);
+  return detail::project_radial(k_, t_.theta.back(), dir_cam, [this](double t) { return height(t); });
 }
 
 std::optional<Eigen::Vector3d> TabulatedLens::ray(const Eigen::Vector2d& pixel) const {
-  if (!pixel.allFinite()) return std::nullopt;
-  const double mx = (pixel.x() - k_.cx) / k_.fx;
-  const double my = (pixel.y() - k_.cy) / k_.fy;
-  const double r = std::hypot(mx, my);
-  if (r > t_.height.back() * (1 + detail::kEdgeTol)) return std::nullopt;
-  return detail::direction(angle(r), mx, my, r);
+  const auto m = detail::normalized_within(k_, pixel, t_.height.back());
+  if (!m) return std::nullopt;
+  return detail::direction(angle(m->r), m->mx, m->my, m->r);
 }
 
 std::shared_ptr<const Lens> TabulatedLens::rescaled(double s) const {

@@ -1,5 +1,6 @@
 // Internal helpers shared by the rotationally symmetric lens models: polar decomposition of a
-// direction, intrinsics checks, the turning point of a radial curve and a bracketed solver.
+// direction, the edge of the field of view both ways (direction → pixel, pixel → normalized
+// coordinates), intrinsics checks, the turning point of a radial curve and a bracketed solver.
 // Not part of the camera interface.
 #pragma once
 
@@ -30,6 +31,33 @@ Eigen::Vector3d direction(double theta, double mx, double my, double r);
 // Pixel at normalized radius r along the azimuth of p.
 inline Eigen::Vector2d pixel_at(const Intrinsics& k, double r, const Polar& p) {
   return {k.cx + k.fx * r * p.c, k.cy + k.fy * r * p.s};
+}
+
+// The pixel of a camera direction on a lens whose normalized image height r(θ) rises up to θmax:
+// nullopt beyond θmax; a direction within kEdgeTol past it (a round trip's rounding) lands on the
+// edge.
+template <class R>
+std::optional<Eigen::Vector2d> project_radial(const Intrinsics& k, double theta_max, const Eigen::Vector3d& dir_cam,
+                                              R r_of_theta) {
+  const auto p = polar_of(dir_cam);
+  if (!p || p->theta > theta_max + kEdgeTol) return std::nullopt;
+  return pixel_at(k, r_of_theta(std::min(p->theta, theta_max)), *p);
+}
+
+// A pixel in normalized image coordinates m = ((u − cx)/fx, (v − cy)/fy), and r = |m|.
+struct Normalized {
+  double mx, my, r;
+};
+
+// The normalized coordinates of a pixel inside the image circle of normalized radius r_max (with
+// kEdgeTol slack); nullopt for a non-finite pixel or one outside.
+inline std::optional<Normalized> normalized_within(const Intrinsics& k, const Eigen::Vector2d& pixel, double r_max) {
+  if (!pixel.allFinite()) return std::nullopt;
+  const double mx = (pixel.x() - k.cx) / k.fx;
+  const double my = (pixel.y() - k.cy) / k.fy;
+  const double r = std::hypot(mx, my);
+  if (r > r_max * (1 + kEdgeTol)) return std::nullopt;
+  return Normalized{mx, my, r};
 }
 
 // Throws std::invalid_argument naming the key (fx, fy, cx, cy, width, height).
