@@ -1,5 +1,8 @@
 #include "render/scene_source.h"
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -8,15 +11,150 @@
 namespace skypol::render {
 namespace {
 
-std::string read_text(const std::string& path) {
+namespace fs = std::filesystem;
+
+std::string read_text(const std::string& path, const FileLoc& where, const std::string& what) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(FileLoc{path, 0, 0}, "cannot open scene file");
+  if (!in || fs::is_directory(path)) throw SceneError(where, what);
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
 }
 
+FileLoc loc_of(const toml::node& node, const std::string& fallback_file) {
+  const toml::source_region& src = node.source();
+  const std::string& file = src.path && !src.path->empty() ? *src.path : fallback_file;
+  return FileLoc{file, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column)};
+}
+
+// `src` over `dst`, key by key: tables merge recursively, anything else replaces. Nodes are moved,
+// never copied, because toml++ drops a node's source region on copy and the errors need it.
+void merge_into(toml::table& dst, toml::table&& src) {
+  for (auto&& [key, node] : src) {
+    toml::node* existing = dst.get(key.str());
+    if (existing && existing->is_table() && node.is_table()) {
+      merge_into(*existing->as_table(), std::move(*node.as_table()));
+      continue;
+    }
+    dst.erase(key.str());
+    dst.insert(toml::key(key), std::move(node));  // the key keeps its source too
+  }
+}
+
+// The folder a file's relative includes resolve against.
+fs::path folder_of(const std::string& file) { return fs::path(file).parent_path(); }
+
+struct Resolver {
+  std::vector<fs::path> chain;       // files being resolved, outermost first (cycle detection)
+  std::vector<std::string> read;     // every included file, in the order read (provenance)
+
+  // Consumes root's `include`, returns the included files merged with root over them.
+  toml::table resolve(toml::table root, const std::string& file) {
+    std::vector<const toml::node*> names;
+    if (toml::node* inc = root.get("include")) {
+      if (inc->is_string()) {
+        names.push_back(inc);
+      } else if (const toml::array* a = inc->as_array()) {
+        for (const toml::node& e : *a) {
+          if (!e.is_string()) {
+            throw SceneError(loc_of(e, file), "key 'include': expected a file name (a string), found an element that is not");
+          }
+          names.push_back(&e);
+        }
+      } else {
+        throw SceneError(loc_of(*inc, file), "key 'include': expected a file name or an array of file names");
+      }
+    }
+    toml::table merged;
+    for (const toml::node* name_node : names) {
+      const std::string name = *name_node->value<std::string>();
+      const FileLoc at = loc_of(*name_node, file);
+      fs::path path(name);
+      if (path.is_relative()) path = folder_of(file) / path;
+      path = path.lexically_normal();
+      const fs::path identity = fs::weakly_canonical(path);
+      if (std::find(chain.begin(), chain.end(), identity) != chain.end()) {
+        std::string cycle;
+        for (const fs::path& p : chain) cycle += p.filename().string() + " -> ";
+        throw SceneError(at, "key 'include': include cycle: " + cycle + identity.filename().string());
+      }
+      const std::string text =
+          read_text(path.string(), at, "key 'include': cannot open included file '" + name + "' (looked for " +
+                                           path.string() + ")");
+      read.push_back(path.string());
+      chain.push_back(identity);
+      merge_into(merged, resolve(parse_toml(text, path.string()), path.string()));
+      chain.pop_back();
+    }
+    root.erase("include");
+    merge_into(merged, std::move(root));
+    return merged;
+  }
+};
+
+// A bare word on the command line (a model name, a path, spaces allowed) is a string; anything
+// with TOML's punctuation is left to the parser so that its syntax errors are reported.
+bool is_bare_word(const std::string& v) {
+  if (v.empty()) return false;
+  return std::none_of(v.begin(), v.end(), [](char c) {
+    return std::iscntrl(static_cast<unsigned char>(c)) ||
+           std::string_view("\"'[]{}#=,\\").find(c) != std::string_view::npos;
+  });
+}
+
+toml::table override_table(const Override& o) {
+  const std::string text = o.key + "=" + o.value;
+  if (is_bare_word(o.value)) {
+    try {
+      return toml::parse(text, o.origin);
+    } catch (const toml::parse_error&) {
+      return parse_toml(o.key + "=\"" + o.value + "\"", o.origin);
+    }
+  }
+  return parse_toml(text, o.origin);  // a syntax error is reported with toml++'s message and column
+}
+
+SceneSource assemble(const std::string& own_text, const std::string& file, const std::vector<Override>& overrides) {
+  Resolver resolver;
+  resolver.chain.push_back(fs::weakly_canonical(fs::path(file)));
+  SceneSource source;
+  source.file = file;
+  source.root = resolver.resolve(parse_toml(own_text, file), file);
+  for (const Override& o : overrides) {
+    toml::table patch = override_table(o);
+    if (patch.contains("include")) {
+      throw SceneError(FileLoc{o.origin, 1, 1}, "key 'include': includes belong in a scene file, not in an override");
+    }
+    merge_into(source.root, std::move(patch));
+  }
+  if (resolver.read.empty() && overrides.empty()) {
+    source.text = own_text;
+  } else {
+    std::string head = "# skypol: the scene " + file + " as loaded";
+    for (const std::string& f : resolver.read) head += "\n#   include " + f;
+    for (const Override& o : overrides) {
+      std::string line = o.key + "=" + o.value + "   (" + o.origin + ")";
+      std::replace_if(line.begin(), line.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+      head += "\n#   " + line;
+    }
+    source.text = head + "\n" + to_toml(source.root);
+  }
+  return source;
+}
+
 }  // namespace
+
+Override parse_override(const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw SceneError(FileLoc{"--set", 0, 0}, "expected key=value (e.g. camera.heading_deg=30), got '" + assignment + "'");
+  }
+  auto trim = [](std::string s) {
+    const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+  };
+  return Override{trim(assignment.substr(0, eq)), trim(assignment.substr(eq + 1))};
+}
 
 toml::table parse_toml(const std::string& text, const std::string& file_name) {
   try {
@@ -28,16 +166,19 @@ toml::table parse_toml(const std::string& text, const std::string& file_name) {
   }
 }
 
-SceneSource parse_scene_source(const std::string& text, const std::string& file_name) {
-  return SceneSource{file_name, text, parse_toml(text, file_name)};
+std::string to_toml(const toml::table& table) {
+  std::ostringstream os;
+  os << toml::toml_formatter(table);
+  return os.str() + "\n";
+}
+
+SceneSource parse_scene_source(const std::string& text, const std::string& file_name,
+                               const std::vector<Override>& overrides) {
+  return assemble(text, file_name, overrides);
 }
 
 SceneSource load_scene_source(const std::string& path, const std::vector<Override>& overrides) {
-  SceneSource source = parse_scene_source(read_text(path), path);
-  if (!overrides.empty()) {
-    throw SceneError(FileLoc{"--set", 0, 0}, "key '" + overrides.front().key + "': overrides are not supported yet");
-  }
-  return source;
+  return assemble(read_text(path, FileLoc{path, 0, 0}, "cannot open scene file"), path, overrides);
 }
 
 }  // namespace skypol::render

@@ -1,6 +1,12 @@
 // Where a scene's TOML comes from before its keys are read: the file, the files it includes, and
 // the command line's --set overrides, merged into one table whose nodes still carry the file and
 // line they came from (so that errors point at the right place).
+//
+// Merging (docs/scenes.md, "include"): a top-level `include = "a.toml"` or `include = ["a.toml",
+// "b.toml"]` names files relative to the including file; they are read first, in order, each
+// with its own includes (a cycle is an error), and every later table overrides the earlier ones
+// key by key: tables merge recursively, any other value (numbers, strings, arrays, arrays of
+// tables) is replaced whole. The including file comes last, then the overrides, in order.
 #pragma once
 
 #include <string>
@@ -10,24 +16,39 @@
 
 namespace skypol::render {
 
-// One `--set dotted.key=value` override; `value` is TOML ("3", "\"piz\"", "[1, 2]"), or a bare
-// word taken as a string.
+// One `--set dotted.key=value` override. `value` is TOML ("3", "\"piz\"", "[1, 2]",
+// "2022-09-23"), or a bare word ("equisolid", "out/x.exr") taken as a string. Errors in the
+// value (and in what the loader makes of it) are reported at `origin`, line 1, with the column
+// counted in "key=value".
 struct Override {
   std::string key;
   std::string value;
+  std::string origin = "--set";
 };
+
+// "a.b.c=value" as typed on the command line; throws SceneError at "--set" when there is no '='.
+Override parse_override(const std::string& assignment);
 
 struct SceneSource {
   std::string file;   // the scene file as given
-  std::string text;   // the merged scene as TOML text (provenance for the stack's headers)
-  toml::table root;
+  // The scene as loaded, for provenance in the stack's headers: the file's own text when it
+  // neither includes nor is overridden, else the merged table as TOML, under a comment that
+  // names the files and overrides it came from. Either way it parses back to the same scene.
+  std::string text;
+  toml::table root;   // merged; the `include` key is consumed
 };
 
-// Throws SceneError: file missing, TOML syntax, bad override.
+// Throws SceneError: file missing, TOML syntax, bad include (missing, wrong type, cycle), bad
+// override.
 SceneSource load_scene_source(const std::string& path, const std::vector<Override>& overrides = {});
-SceneSource parse_scene_source(const std::string& text, const std::string& file_name);
+// The same for text in memory; includes resolve against the folder of `file_name`.
+SceneSource parse_scene_source(const std::string& text, const std::string& file_name,
+                               const std::vector<Override>& overrides = {});
 
 // TOML text → table, with syntax errors as SceneError at the file, line and column.
 toml::table parse_toml(const std::string& text, const std::string& file_name);
+
+// A table as TOML text (toml++'s formatter: keys sorted, floats that parse back exactly).
+std::string to_toml(const toml::table& table);
 
 }  // namespace skypol::render

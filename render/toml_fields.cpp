@@ -204,6 +204,11 @@ std::vector<Fields::Row> Fields::rows(std::string_view key, std::size_t width) {
   return out;
 }
 
+const toml::node* Fields::node(std::string_view key) {
+  used_.insert(std::string(key));
+  return table_->get(key);
+}
+
 std::optional<Fields> Fields::table(std::string_view key) {
   used_.insert(std::string(key));
   const toml::node* n = table_->get(key);

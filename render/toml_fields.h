@@ -41,6 +41,10 @@ class Fields {
   using Row = std::vector<double>;
   std::vector<Row> rows(std::string_view key, std::size_t width);
 
+  // Any value, marked as read (nullptr when absent), for a key that accepts several types; the
+  // caller checks the type and reports with fail().
+  const toml::node* node(std::string_view key);
+
   // A sub-table; nullopt if absent. The sub-table's keys are checked by its own Fields.
   std::optional<Fields> table(std::string_view key);
   // Array of tables ([[occluders.box]]).
