@@ -1,16 +1,67 @@
 #include "render/scene.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
-
 
 namespace skypol::render {
 namespace {
 
-sky::Instant instant_at(Fields& f, std::string_view key, const std::string& text) {
+std::string two(int v) { return (v < 10 ? "0" : "") + std::to_string(v); }
+
+std::string date_text(const toml::date& d) {
+  return std::to_string(d.year) + "-" + two(d.month) + "-" + two(d.day);
+}
+
+std::string time_text(const toml::time& t) {
+  std::string s = two(t.hour) + ":" + two(t.minute) + ":" + two(t.second);
+  if (t.nanosecond) {
+    const std::string ns = std::to_string(t.nanosecond);
+    s += "." + std::string(9 - ns.size(), '0') + ns;
+  }
+  return s;
+}
+
+// A TOML value that stands for an instant, a date or a time of day, as the text sky::parse_iso8601
+// and the composition below read: strings as written, TOML's own date/time values converted.
+// `what` says what was expected, for the error.
+std::string temporal_text(const Fields& f, std::string_view key, const toml::node& n, const char* what) {
+  if (const auto* s = n.as_string()) return s->get();
+  if (const auto* dt = n.as_date_time()) {
+    const toml::date_time& v = dt->get();
+    if (!v.offset) f.fail(key, "a date and time needs a zone (Z or +hh:mm), e.g. 2022-09-23T08:00:00+02:00");
+    const int off = v.offset->minutes;
+    const std::string zone = off == 0 ? "Z" : (off < 0 ? "-" : "+") + two(std::abs(off) / 60) + ":" + two(std::abs(off) % 60);
+    return date_text(v.date) + "T" + time_text(v.time) + zone;
+  }
+  if (const auto* d = n.as_date()) return date_text(d->get());
+  if (const auto* t = n.as_time()) return time_text(t->get());
+  f.fail(key, std::string("expected ") + what);
+}
+
+// One value or an array of them, each as text.
+std::vector<std::string> temporal_list(Fields& f, std::string_view key, const char* what) {
+  std::vector<std::string> out;
+  const toml::node* n = f.node(key);
+  if (!n) return out;
+  if (const toml::array* a = n->as_array()) {
+    for (const toml::node& e : *a) out.push_back(temporal_text(f, key, e, what));
+  } else {
+    out.push_back(temporal_text(f, key, *n, what));
+  }
+  return out;
+}
+
+std::optional<std::string> temporal(Fields& f, std::string_view key, const char* what) {
+  const toml::node* n = f.node(key);
+  if (!n) return std::nullopt;
+  return temporal_text(f, key, *n, what);
+}
+
+sky::Instant instant_at(const Fields& f, std::string_view key, const std::string& text) {
   try {
     return sky::parse_iso8601(text);
   } catch (const std::invalid_argument& e) {
@@ -29,30 +80,79 @@ void require_daylight(const Scene& scene, const Fields& time) {
     char msg[160];
     std::snprintf(msg, sizeof msg, "the sun is below the horizon in every frame (highest elevation %.1f deg): "
                   "nothing but night to render", highest);
-    time.fail(time.has("instants") ? "instants" : "start", msg);
+    time.fail(time.has("instants") ? "instants" : time.has("dates") ? "dates" : "start", msg);
+  }
+}
+
+constexpr long long kMaxFrames = 100000;
+
+// Frames from t0 every step_s up to and including t1.
+void append_range(Fields& t, sky::Instant t0, sky::Instant t1, double step_s, std::string_view end_key,
+                  std::vector<sky::Instant>& times) {
+  if (t1 < t0) t.fail(end_key, "must not be before the start");
+  const auto n = static_cast<long long>(std::floor((t1.unix_seconds - t0.unix_seconds) / step_s + 1e-9));
+  if (n + static_cast<long long>(times.size()) >= kMaxFrames) t.fail("step_min", "gives more than 100000 frames");
+  for (long long i = 0; i <= n; ++i) times.push_back(sky::Instant{t0.unix_seconds + static_cast<double>(i) * step_s});
+}
+
+// The third form: calendar dates × times of day in one zone, so that a sweep can vary the date
+// alone ("time.dates" = ...).
+void read_dates(Fields& t, const std::vector<std::string>& dates, std::vector<sky::Instant>& times) {
+  const std::string zone = t.required_string("zone");
+  if (zone.empty()) t.fail("zone", "expected Z or an offset such as +02:00");
+  try {
+    (void)sky::parse_iso8601("2000-01-01T00:00" + zone);
+  } catch (const std::invalid_argument&) {
+    t.fail("zone", "'" + zone + "' is not a zone: expected Z or an offset such as +02:00 or -03:30");
+  }
+  const std::vector<std::string> of_day = temporal_list(t, "times_of_day", "a time of day such as \"08:30\"");
+  const std::optional<std::string> day_start = temporal(t, "day_start", "a time of day such as \"06:00\"");
+  if (!of_day.empty() && day_start) t.fail("day_start", "give either 'times_of_day' or 'day_start'/'day_end'/'step_min', not both");
+  if (of_day.empty() && !day_start) t.fail("dates", "dates need 'times_of_day' or 'day_start'/'day_end'/'step_min'");
+  for (const std::string& date : dates) {
+    if (date.find('T') != std::string::npos || date.size() != 10) {
+      t.fail("dates", "'" + date + "' is not a calendar date: expected YYYY-MM-DD");
+    }
+    (void)instant_at(t, "dates", date + "T00:00" + zone);
+    if (day_start) {
+      const sky::Instant t0 = instant_at(t, "day_start", date + "T" + *day_start + zone);
+      const std::optional<std::string> day_end = temporal(t, "day_end", "a time of day such as \"17:00\"");
+      if (!day_end) t.fail("day_end", "missing (the last time of day, e.g. \"17:00\")");
+      const sky::Instant t1 = instant_at(t, "day_end", date + "T" + *day_end + zone);
+      append_range(t, t0, t1, 60.0 * t.required_number("step_min", 1e-3, 1e6), "day_end", times);
+    } else {
+      for (const std::string& tod : of_day) times.push_back(instant_at(t, "times_of_day", date + "T" + tod + zone));
+      if (static_cast<long long>(times.size()) > kMaxFrames) t.fail("dates", "gives more than 100000 frames");
+    }
   }
 }
 
 std::vector<sky::Instant> read_times(Fields& t) {
   std::vector<sky::Instant> times;
-  const std::vector<std::string> instants = t.strings("instants", {});
-  const std::optional<std::string> start = t.optional_string("start");
-  if (!instants.empty() && start) t.fail("start", "give either 'instants' or 'start'/'end'/'step_min', not both");
+  const char* instant = "an ISO 8601 date and time with a zone, e.g. \"2022-09-23T08:00:00+02:00\"";
+  const std::vector<std::string> instants = temporal_list(t, "instants", instant);
+  const std::optional<std::string> start = temporal(t, "start", instant);
+  const std::vector<std::string> dates = temporal_list(t, "dates", "a date such as \"2022-09-23\"");
+  const int forms = int(!instants.empty()) + int(start.has_value()) + int(!dates.empty());
+  if (forms > 1) {
+    t.fail(!dates.empty() ? "dates" : "start", "give one of 'instants', 'start'/'end'/'step_min' or 'dates' with times of day");
+  }
   for (const std::string& s : instants) times.push_back(instant_at(t, "instants", s));
   if (start) {
     const sky::Instant t0 = instant_at(t, "start", *start);
-    const sky::Instant t1 = instant_at(t, "end", t.required_string("end"));
-    const double step_s = 60.0 * t.required_number("step_min", 1e-3, 1e6);
-    if (t1 < t0) t.fail("end", "must not be before 'start'");
-    const auto n = static_cast<long long>(std::floor((t1.unix_seconds - t0.unix_seconds) / step_s + 1e-9));
-    if (n > 100000) t.fail("step_min", "gives more than 100000 frames");
-    for (long long i = 0; i <= n; ++i) {
-      times.push_back(sky::Instant{t0.unix_seconds + static_cast<double>(i) * step_s});
-    }
+    const std::optional<std::string> end = temporal(t, "end", instant);
+    if (!end) t.fail("end", "missing (the last instant, e.g. \"2022-09-23T17:00:00Z\")");
+    const sky::Instant t1 = instant_at(t, "end", *end);
+    append_range(t, t0, t1, 60.0 * t.required_number("step_min", 1e-3, 1e6), "end", times);
   }
-  if (times.empty()) t.fail("instants", "no times: give 'instants' or 'start'/'end'/'step_min'");
+  if (!dates.empty()) read_dates(t, dates, times);
+  if (times.empty()) t.fail("instants", "no times: give 'instants', 'start'/'end'/'step_min', or 'dates' and times of day");
   for (std::size_t i = 1; i < times.size(); ++i) {
-    if (!(times[i - 1] < times[i])) t.fail("instants", "times must be strictly increasing");
+    if (!(times[i - 1] < times[i])) {
+      t.fail(!dates.empty() ? "dates" : "instants", "times must be strictly increasing (" +
+                                                         sky::format_iso8601(times[i - 1]) + " then " +
+                                                         sky::format_iso8601(times[i]) + ")");
+    }
   }
   return times;
 }
