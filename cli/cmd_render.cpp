@@ -11,13 +11,16 @@ namespace {
 struct RenderArgs {
   std::string scene;
   std::string out;
+  std::vector<std::string> set;  // --set key=value, in order
   bool quiet = false;
   std::string method = "classic";
   bool json = false;
 };
 
 std::string render_one(const RenderArgs& a) {
-  const render::Scene scene = render::load_scene(a.scene);
+  std::vector<render::Override> overrides;
+  for (const std::string& s : a.set) overrides.push_back(render::parse_override(s));
+  const render::Scene scene = render::load_scene(a.scene, overrides);
   const std::string out = a.out.empty() ? scene.output.path : a.out;
   const render::RenderReport r = render::render_scene(scene, out, make_progress(a.quiet));
   if (!a.quiet) {
@@ -34,6 +37,8 @@ void add_render(CLI::App& app) {
   CLI::App* render = app.add_subcommand("render", "Render a scene into a multi-part EXR Stokes stack");
   render->add_option("scene", args->scene, "Scene file (TOML, docs/scenes.md)")->required();
   render->add_option("-o,--output", args->out, "Output EXR (default: the scene's output.path)");
+  render->add_option("--set", args->set, "Override a scene key: --set camera.heading_deg=30 (repeatable)")
+      ->allow_extra_args(false);
   render->add_flag("-q,--quiet", args->quiet, "No progress or summary on stderr");
   render->callback([args] { render_one(*args); });
 
@@ -41,6 +46,8 @@ void add_render(CLI::App& app) {
   CLI::App* run = app.add_subcommand("run", "Render a scene, then estimate north on the stack and score it");
   run->add_option("scene", run_args->scene, "Scene file (TOML, docs/scenes.md)")->required();
   run->add_option("-o,--output", run_args->out, "Output EXR (default: the scene's output.path)");
+  run->add_option("--set", run_args->set, "Override a scene key: --set camera.heading_deg=30 (repeatable)")
+      ->allow_extra_args(false);
   run->add_option("-m,--method", run_args->method, "Estimator (see `skypol estimate --help`)");
   run->add_flag("--json", run_args->json, "Print the result as JSON");
   run->add_flag("-q,--quiet", run_args->quiet, "No progress or summary on stderr");

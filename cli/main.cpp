@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_sun(app);
   skypol::cli::add_lens(app);
   skypol::cli::add_bench(app);
+  skypol::cli::add_sweep(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
