@@ -39,7 +39,11 @@ void add_sweep(CLI::App& app) {
     if (!a->quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     const render::Sweep sweep = render::load_sweep(a->sweep);
     const render::SweepReport r = render::run_sweep(sweep, o);
-    if (!a->quiet) {
+    if (!a->quiet && o.dry_run) {
+      std::fprintf(stderr, "sweep %s (dry run): %zu variant(s) checked in %.2f s, manifest written; shard %zu/%zu has %zu: "
+                   "%zu complete, %zu to render\n", a->sweep.c_str(), r.variants, r.check_seconds, o.shard.index,
+                   o.shard.count, r.in_shard, r.skipped, r.in_shard - r.skipped);
+    } else if (!a->quiet) {
       std::fprintf(stderr,
                    "sweep %s: %zu variant(s), shard %zu/%zu has %zu: %zu rendered, %zu already complete, %zu failed "
                    "(checking %.2f s, rendering %.2f s)\n",

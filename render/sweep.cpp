@@ -1,14 +1,18 @@
 #include "render/sweep.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <tuple>
 
+#include <sys/types.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
 
@@ -235,6 +239,7 @@ std::string json_value(const std::string& toml_text) {
 }
 
 std::string num(double v) {
+  if (v == 0) v = 0;  // no "-0" in the manifest
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
@@ -264,6 +269,29 @@ void write_atomically(const fs::path& path, const std::string& text) {
     fs::remove(tmp, ec);
     throw SceneError(FileLoc{path.string(), 0, 0}, "cannot write the manifest: " + ec.message());
   }
+}
+
+// Leftovers of runs that were killed mid-write: stacks and the manifest are written as
+// NAME.tmp-PID and renamed (stack_io.h), so a killed run leaves NAME.tmp-PID behind. One scan of
+// the folder maps each NAME to its leftovers; a leftover is stale when no process PID lives on
+// this machine (a shard's variants are written by that shard's run only).
+std::map<std::string, std::vector<fs::path>> stale_temporaries(const fs::path& dir) {
+  std::map<std::string, std::vector<fs::path>> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    const auto at = name.rfind(".tmp-");
+    if (at == std::string::npos) continue;
+    const std::string pid = name.substr(at + 5);
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    out[name.substr(0, at)].push_back(e.path());
+  }
+  return out;
+}
+
+void remove_all(const std::vector<fs::path>& paths) {
+  std::error_code ec;
+  for (const fs::path& p : paths) fs::remove(p, ec);
 }
 
 }  // namespace
@@ -421,20 +449,26 @@ SweepReport run_sweep(const Sweep& sweep, const SweepOptions& options) {
   report.variants = sweep.size();
   const auto t_check = Clock::now();
   // Every variant is loaded and checked before anything is written: a sweep either starts whole
-  // or fails with the first bad entry.
-  // Only the manifest is kept (a scene per variant would hold ~3 kB each); this shard's variants
-  // are made again when rendered.
+  // or fails with the first bad entry. Only the manifest and the file names are kept (a scene per
+  // variant would hold ~3 kB); this shard's variants are made again when rendered.
   std::string manifest;
-  for (std::size_t i = 0; i < report.variants; ++i) manifest += manifest_line(make_variant(sweep, i, options.overrides)) + "\n";
+  std::vector<std::string> files;
+  files.reserve(report.variants);
+  for (std::size_t i = 0; i < report.variants; ++i) {
+    const Variant v = make_variant(sweep, i, options.overrides);
+    manifest += manifest_line(v) + "\n";
+    files.push_back(v.file);
+  }
   const fs::path dir(options.out_dir);
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) {
     throw SceneError(FileLoc{options.out_dir, 0, 0}, "cannot create the output folder" + (ec ? ": " + ec.message() : ""));
   }
+  std::map<std::string, std::vector<fs::path>> stale = stale_temporaries(dir);
+  remove_all(stale["manifest.jsonl"]);
   write_atomically(dir / "manifest.jsonl", manifest);
   report.check_seconds = since(t_check);
-  if (options.dry_run) return report;
 
   std::optional<tbb::global_control> threads;
   if (options.threads > 0) {
@@ -444,23 +478,25 @@ SweepReport run_sweep(const Sweep& sweep, const SweepOptions& options) {
   for (std::size_t i = 0; i < report.variants; ++i) {
     if (!options.shard.has(i)) continue;
     ++report.in_shard;
-    const Variant v = make_variant(sweep, i, options.overrides);
-    const fs::path out = dir / v.file;
+    const fs::path out = dir / files[i];
     if (fs::exists(out)) {
       ++report.skipped;
       continue;
     }
+    if (options.dry_run) continue;
+    if (auto it = stale.find(files[i]); it != stale.end()) remove_all(it->second);
     const auto t0 = Clock::now();
     try {
+      const Variant v = make_variant(sweep, i, options.overrides);
       const RenderReport r = render_scene(v.scene, out.string());
       ++report.rendered;
       if (options.log) {
-        options.log("variant " + std::to_string(v.index + 1) + "/" + std::to_string(report.variants) + ": " +
-                    out.string() + " (" + std::to_string(r.frames) + " frames " + std::to_string(r.width) + "x" +
+        options.log("variant " + std::to_string(i + 1) + "/" + std::to_string(report.variants) + ": " + out.string() +
+                    " (" + std::to_string(r.frames) + " frames " + std::to_string(r.width) + "x" +
                     std::to_string(r.height) + ", " + fixed(since(t0), 2) + " s)");
       }
     } catch (const std::exception& e) {
-      report.failures.push_back("variant " + std::to_string(v.index) + " (" + v.file + "): " + e.what());
+      report.failures.push_back("variant " + std::to_string(i) + " (" + files[i] + "): " + e.what());
       if (options.log) options.log(report.failures.back());
     }
   }

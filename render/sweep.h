@@ -74,7 +74,7 @@ struct SweepOptions {
   Shard shard;
   std::vector<Override> overrides;  // --set: after [set], before the axes
   int threads = 0;                  // TBB threads per run; 0 = all cores
-  bool dry_run = false;             // check every variant and write the manifest only
+  bool dry_run = false;             // check every variant, write the manifest, count what is done
   std::function<void(const std::string&)> log;  // one line per variant (may be empty)
 };
 
@@ -82,7 +82,7 @@ struct SweepReport {
   std::size_t variants = 0;  // in the whole sweep
   std::size_t in_shard = 0;
   std::size_t rendered = 0;
-  std::size_t skipped = 0;   // already complete
+  std::size_t skipped = 0;   // already complete (also counted in a dry run)
   std::vector<std::string> failures;  // one message per variant that could not be written
   double check_seconds = 0;  // loading and checking every variant, and the manifest
   double render_seconds = 0;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "render/stack_io.h"
@@ -162,6 +163,23 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK(stack.frames[0].truth.heading_deg == Approx(30).margin(1e-9));
   CHECK_THAT(stack.scene_text, Catch::Contains("site.latitude_deg=-20   (axis site.latitude_deg)"));
 
+  // A dry run counts what is done and renders nothing.
+  o.dry_run = true;
+  o.shard = Shard{};
+  const SweepReport dry = run_sweep(s, o);
+  CHECK(dry.in_shard == 4);
+  CHECK(dry.skipped == 1);
+  CHECK(dry.rendered == 0);
+  o.dry_run = false;
+
+  // Leftovers of a killed run (NAME.tmp-PID) are removed when PID is gone; a live writer's stay.
+  const std::string variant2 = manifest[2].substr(manifest[2].find("\"file\": \"") + 9, 19);
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ::waitpid(dead, nullptr, 0);
+  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))) << "half a stack";
+  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(::getppid()))) << "being written";
+
   // Resume: the finished variant is skipped; the whole sweep completes the rest.
   const auto mtime = fs::last_write_time(d.path / "out" / name);
   o.shard = Shard{};
@@ -170,6 +188,8 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK(second.rendered == 3);
   CHECK(fs::last_write_time(d.path / "out" / name) == mtime);
   CHECK(lines_of(d.path / "out" / "manifest.jsonl") == manifest);  // the same bytes from every run
+  CHECK_FALSE(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(::getppid()))));
   const SweepReport third = run_sweep(s, o);
   CHECK(third.rendered == 0);
   CHECK(third.skipped == 4);
