@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -142,6 +145,97 @@ SceneSource assemble(const std::string& own_text, const std::string& file, const
   return source;
 }
 
+
+// TOML text, written here rather than by toml++'s formatter, whose floats carry 17 significant
+// digits (43.286990000000003): these are the shortest that parse back to the same double.
+bool is_bare_key(std::string_view k) {
+  return !k.empty() && std::all_of(k.begin(), k.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+}
+
+std::string toml_quoted(std::string_view s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+          out += buf;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string key_text(std::string_view k) { return is_bare_key(k) ? std::string(k) : toml_quoted(k); }
+
+std::string float_text(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v < 0 ? "-inf" : "inf";
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  std::string s(buf, r.ptr);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s;
+}
+
+std::string value_text(const toml::node& n) {
+  if (const auto* s = n.as_string()) return toml_quoted(s->get());
+  if (const auto* i = n.as_integer()) return std::to_string(i->get());
+  if (const auto* f = n.as_floating_point()) return float_text(f->get());
+  if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+  if (const auto* a = n.as_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < a->size(); ++i) out += (i ? ", " : "") + value_text(*a->get(i));
+    return out + "]";
+  }
+  if (const auto* t = n.as_table()) {
+    std::string out = "{";
+    bool first = true;
+    for (auto&& [k, v] : *t) {
+      out += std::string(first ? " " : ", ") + key_text(k.str()) + " = " + value_text(v);
+      first = false;
+    }
+    return out + (first ? "}" : " }");
+  }
+  std::ostringstream os;  // dates and times: toml++ writes them as written
+  os << toml::toml_formatter(n);
+  return os.str();
+}
+
+// Plain keys first, then each sub-table under its [header], then arrays of tables.
+void emit_table(const toml::table& t, const std::string& path, std::string& out) {
+  auto header_path = [&path](std::string_view k) { return path.empty() ? key_text(k) : path + "." + key_text(k); };
+  for (auto&& [k, v] : t) {
+    const toml::array* a = v.as_array();
+    if (v.is_table() || (a && a->is_array_of_tables())) continue;
+    out += key_text(k.str()) + " = " + value_text(v) + "\n";
+  }
+  for (auto&& [k, v] : t) {
+    if (const toml::table* sub = v.as_table()) {
+      out += "\n[" + header_path(k.str()) + "]\n";
+      emit_table(*sub, header_path(k.str()), out);
+    }
+  }
+  for (auto&& [k, v] : t) {
+    const toml::array* a = v.as_array();
+    if (!a || !a->is_array_of_tables()) continue;
+    for (const toml::node& e : *a) {
+      out += "\n[[" + header_path(k.str()) + "]]\n";
+      emit_table(*e.as_table(), header_path(k.str()), out);
+    }
+  }
+}
+
 }  // namespace
 
 Override parse_override(const std::string& assignment) {
@@ -166,10 +260,12 @@ toml::table parse_toml(const std::string& text, const std::string& file_name) {
   }
 }
 
+std::string to_toml_value(const toml::node& value) { return value_text(value); }
+
 std::string to_toml(const toml::table& table) {
-  std::ostringstream os;
-  os << toml::toml_formatter(table);
-  return os.str() + "\n";
+  std::string out;
+  emit_table(table, "", out);
+  return out;
 }
 
 SceneSource parse_scene_source(const std::string& text, const std::string& file_name,

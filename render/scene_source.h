@@ -48,7 +48,10 @@ SceneSource parse_scene_source(const std::string& text, const std::string& file_
 // TOML text → table, with syntax errors as SceneError at the file, line and column.
 toml::table parse_toml(const std::string& text, const std::string& file_name);
 
-// A table as TOML text (toml++'s formatter: keys sorted, floats that parse back exactly).
+// A table as TOML text: keys sorted, sub-tables under [headers], floats in the shortest form that
+// parses back to the same double (0.1, not toml++'s 0.10000000000000001).
 std::string to_toml(const toml::table& table);
+// One value (a number, a string, an array, an inline table, a date) as TOML text.
+std::string to_toml_value(const toml::node& value);
 
 }  // namespace skypol::render

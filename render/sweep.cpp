@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -32,12 +33,6 @@ FileLoc loc_of(const toml::node& node, const std::string& file) {
   const toml::source_region& src = node.source();
   return FileLoc{src.path && !src.path->empty() ? *src.path : file, static_cast<int>(src.begin.line),
                  static_cast<int>(src.begin.column)};
-}
-
-std::string value_text(const toml::node& node) {
-  std::ostringstream os;
-  os << toml::toml_formatter(node, toml::toml_formatter::default_flags & ~toml::format_flags::indentation);
-  return os.str();
 }
 
 // A number as TOML: integers as written, floats to 12 significant digits (so that a range of
@@ -138,7 +133,7 @@ void collect_axes(const toml::table& t, const std::string& prefix, const std::st
     if (axis.where.line == 0) axis.where = loc_of(t, file);
     if (const toml::array* a = node.as_array()) {
       if (a->empty()) throw SceneError(axis.where, "axis '" + key + "': no values");
-      for (const toml::node& e : *a) axis.values.push_back(value_text(e));
+      for (const toml::node& e : *a) axis.values.push_back(to_toml_value(e));
     } else if (const toml::table* sub = node.as_table()) {
       if (!is_range(*sub)) {
         collect_axes(*sub, key, file, out);
@@ -162,7 +157,7 @@ void collect_set(const toml::table& t, const std::string& prefix, const std::str
       collect_set(*sub, key, file, sweep);
       continue;
     }
-    sweep.set.push_back(Override{key, value_text(node), ""});
+    sweep.set.push_back(Override{key, to_toml_value(node), ""});
     sweep.set_where.push_back(loc_of(node, file));
   }
 }
@@ -205,7 +200,7 @@ void json_of(std::ostream& os, const toml::node& n) {
     }
     os << "}";
   } else if (n.is_string() || n.is_date() || n.is_time() || n.is_date_time()) {
-    std::string s = n.is_string() ? *n.value<std::string>() : value_text(n);
+    std::string s = n.is_string() ? *n.value<std::string>() : to_toml_value(n);
     os << "\"";
     for (char c : s) {
       if (c == '"' || c == '\\') {
@@ -224,10 +219,11 @@ void json_of(std::ostream& os, const toml::node& n) {
     if (!std::isfinite(v)) {
       os << "null";  // JSON has no inf or nan; no scene key accepts them anyway
     } else {
-      os << number_text(v, false);
+      char buf[64];
+      os << std::string_view(buf, static_cast<std::size_t>(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
     }
   } else {
-    os << value_text(n);  // integers, booleans: the same in JSON
+    os << to_toml_value(n);  // integers, booleans: the same in JSON
   }
 }
 

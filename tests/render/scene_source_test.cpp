@@ -189,3 +189,29 @@ TEST_CASE("an error from --set is reported at --set, with the column in key=valu
     CHECK_THAT(e.what(), Catch::StartsWith("--set: error: expected key=value"));
   }
 }
+
+TEST_CASE("to_toml writes a table that parses back equal, floats in their shortest form", "[scene][source]") {
+  const toml::table t = skypol::render::parse_toml(R"(top = 1
+"key with space" = "tab\there \"quoted\" back\\slash"
+floats = [0.1, 43.28699, 1e300, -0.0, 5e-324, 2.5e-8, 60.0]
+when = 2022-09-23T08:00:00+02:00
+day = 2022-09-23
+clock = 08:30:00
+flag = true
+nested = [[1, 2], ["a"], [{ x = 1 }]]
+inline = { a = 1, b = { c = "d" } }
+[a.b]
+c = 3
+[[boxes]]
+size = [1.5, 2.0]
+[[boxes]]
+size = [3.0, 1e-3]
+)", "in.toml");
+  const std::string text = skypol::render::to_toml(t);
+  INFO(text);
+  CHECK(skypol::render::parse_toml(text, "out.toml") == t);
+  CHECK_THAT(text, Catch::Contains("floats = [0.1, 43.28699, 1e+300, -0.0, 5e-324, 2.5e-08, 60.0]"));
+  CHECK_THAT(text, Catch::Contains("\n[a.b]\nc = 3\n"));
+  CHECK_THAT(text, Catch::Contains("\n[[boxes]]\nsize = [1.5, 2.0]\n"));
+  CHECK_THAT(text, Catch::Contains("\"key with space\" = \"tab\\there \\\"quoted\\\" back\\\\slash\""));
+}
