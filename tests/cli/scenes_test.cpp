@@ -1,9 +1,9 @@
 // Every scene shipped in scenes/ renders and estimates at 1/16 of its resolution, through the
-// executable as a user runs it: `skypol run SCENE --set camera.binning=16 -m great_circle`, then
-// `skypol estimate -m classic` on the same stack. great_circle must find every scene's pole
-// (hard cases included) within the bound below; the classic SkyPole estimator must on the
-// well-posed scenes, and on a hard case it may decline — but only with its own "found no pole"
-// message: never a crash, a NaN, or a wrong pole given as an answer.
+// executable as a user runs it: `skypol render SCENE --set camera.binning=16`, then one
+// `skypol evaluate -m classic great_circle` over all the stacks. great_circle must find every
+// scene's pole (hard cases included) within the bound below; the classic SkyPole estimator must
+// on the well-posed scenes, and on a hard case it may decline — but only as invalid with its
+// reason: never a crash, a NaN, or a wrong pole given as an answer.
 #include <catch2/catch.hpp>
 
 #include <map>
@@ -27,27 +27,35 @@ struct Expect {
 // not listed here (a new one) must render, and estimate within the default bounds or decline.
 const Expect kDefault{1.0, false, 5.0};
 const std::map<std::string, Expect> kExpect{
-    {"skypole-marseille.toml", {0.1, true, 1.5}},
-    {"skypole-marseille-dofp.toml", {2.0, true, 5.0}},  // sensor noise and a 12-bit ADC
-    {"hard-tilted-camera.toml", {0.1, true, 1.0}},
-    {"hard-southern.toml", {0.1, true, 2.0}},
-    {"hard-polar-day.toml", {0.1, true, 1.0}},
-    {"sun2019-hefei.toml", {0.1, false, 5.0}},
-    {"hard-equator.toml", {0.1, false, 5.0}},
-    {"hard-sun-zenith.toml", {0.1, false, 5.0}},
-    {"hard-sun-horizon.toml", {0.1, false, 5.0}},
+    {"skypole-marseille", {0.1, true, 1.5}},
+    {"skypole-marseille-dofp", {2.0, true, 5.0}},  // sensor noise and a 12-bit ADC
+    {"hard-tilted-camera", {0.1, true, 1.0}},
+    {"hard-southern", {0.1, true, 2.0}},
+    {"hard-polar-day", {0.1, true, 1.0}},
+    {"sun2019-hefei", {0.1, false, 5.0}},
+    {"hard-equator", {0.1, false, 5.0}},
+    {"hard-sun-zenith", {0.1, false, 5.0}},
+    {"hard-sun-horizon", {0.1, false, 5.0}},
 };
 
-double json_number(const std::string& text, const std::string& key) {
-  const auto at = text.find("\"" + key + "\": ");
-  REQUIRE(at != std::string::npos);
-  return std::stod(text.substr(at + key.size() + 4));
-}
-
-void check_clean(const Result& r) {
-  CHECK(r.out.find("nan") == std::string::npos);
-  CHECK(r.out.find("inf") == std::string::npos);
-  CHECK(r.code != 3);  // internal error
+// One CSV line into fields (RFC 4180 quoting: "a, b" is one field, "" inside quotes is ").
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+      out.back() += '"';
+      ++i;
+    } else if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      out.emplace_back();
+    } else {
+      out.back() += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -60,27 +68,51 @@ TEST_CASE("every shipped scene renders and estimates at 1/16 resolution", "[cli]
   }
   std::sort(scenes.begin(), scenes.end());
   REQUIRE(scenes.size() >= kExpect.size());
+  const fs::path stacks = dir.path / "stacks";
+  fs::create_directories(stacks);
   for (const fs::path& scene : scenes) {
-    const std::string name = scene.filename().string();
+    const Result r = run("render -q " + scene.string() + " --set camera.binning=16 -o " +
+                         (stacks / (scene.stem().string() + ".exr")).string());
+    INFO(scene << ":\n" << r.out);
+    CHECK(r.code == 0);
+  }
+
+  const std::string csv = (dir.path / "rows.csv").string();
+  const Result e = run("evaluate -q " + stacks.string() + " -m classic great_circle --csv " + csv);
+  INFO(e.out);
+  REQUIRE(e.code == 0);
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = csv_fields(line);
+  auto column = [&header](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    REQUIRE(it != header.end());
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t c_dataset = column("dataset"), c_method = column("method"), c_valid = column("valid"),
+                    c_why = column("why_invalid"), c_error = column("angular_error_deg");
+  std::map<std::string, int> rows;  // per scene
+  while (std::getline(in, line)) {
+    INFO(line);
+    CHECK(line.find("nan") == std::string::npos);
+    CHECK(line.find("inf") == std::string::npos);
+    const std::vector<std::string> f = csv_fields(line);
+    REQUIRE(f.size() == header.size());
+    const std::string name = fs::path(f[c_dataset]).stem().string();
     const auto it = kExpect.find(name);
     const Expect expect = it == kExpect.end() ? kDefault : it->second;
-    const std::string out = (dir.path / (scene.stem().string() + ".exr")).string();
-
-    const Result r = run("run -q " + scene.string() + " --set camera.binning=16 -o " + out + " -m great_circle --json");
-    INFO(name << ", great_circle:\n" << r.out);
-    check_clean(r);
-    REQUIRE(r.code == 0);
-    CHECK(json_number(r.out, "angular_error_deg") < expect.great_circle_deg);
-
-    const Result c = run("estimate " + out + " -m classic --json");
-    INFO(name << ", classic:\n" << c.out);
-    check_clean(c);
-    if (c.code == 0) {
-      CHECK(json_number(c.out, "angular_error_deg") < expect.classic_deg);
+    ++rows[name];
+    if (f[c_method] == "great_circle") {
+      REQUIRE(f[c_valid] == "1");
+      CHECK(std::stod(f[c_error]) < expect.great_circle_deg);
+    } else if (f[c_valid] == "1") {
+      CHECK(std::stod(f[c_error]) < expect.classic_deg);
     } else {
       CHECK_FALSE(expect.classic_must_succeed);
-      CHECK(c.code == 2);
-      CHECK_THAT(c.out, Catch::Contains("found no pole"));
+      CHECK_FALSE(f[c_why].empty());
     }
   }
+  CHECK(rows.size() == scenes.size());
+  for (const auto& [name, n] : rows) CHECK(n == 2);
 }
