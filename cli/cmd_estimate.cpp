@@ -81,7 +81,7 @@ void write_intermediates(const skypole::ClassicImages& im, const std::string& pa
 void print_json(const std::string& path, const render::Stack& stack, const skypole::PoleEstimate& e,
                 const skypole::Score& s) {
   const render::Truth& t = stack.frames.at(0).truth;
-  std::printf("{\"stack\": %s, \"method\": \"%s\", \"frames\": %zu, \"seconds\": %.4f,\n", json_string(path).c_str(),
+  std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": true, \"frames\": %zu, \"seconds\": %.4f,\n", json_string(path).c_str(),
               e.method.c_str(), stack.frames.size(), e.seconds);
   std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
               t.site.latitude_deg, s.latitude_error_deg);
@@ -141,6 +141,7 @@ void print_estimate(const EstimateRequest& r) {
                 stack.frames[0].height);
   }
   if (r.json && methods.size() > 1) std::printf("[");
+  std::size_t declined = 0;
   for (std::size_t i = 0; i < methods.size(); ++i) {
     skypole::PoleEstimate e;
     if (!r.intermediates.empty()) {
@@ -151,9 +152,30 @@ void print_estimate(const EstimateRequest& r) {
       write_intermediates(c.images, r.intermediates);
       e = std::move(c.estimate);
     } else {
-      e = skypole::run_method(stack, methods[i], r.input);
+      try {
+        e = skypole::run_method(stack, methods[i], r.input);
+      } catch (const std::invalid_argument& err) {
+        if (methods.size() == 1) throw;
+        e.method = methods[i];
+        e.valid = false;
+        e.why_invalid = err.what();
+      }
     }
-    if (!e.valid) throw std::invalid_argument(r.path + ": " + methods[i] + " found no pole: " + e.why_invalid);
+    if (!e.valid) {
+      // One method alone: its refusal is the command's error. Several: the others still run, and
+      // this one says why it has no pole (never a silent number).
+      if (methods.size() == 1) {
+        throw std::invalid_argument(r.path + ": " + methods[i] + " found no pole: " + e.why_invalid);
+      }
+      ++declined;
+      if (r.json) {
+        std::printf("%s{\"stack\": %s, \"method\": \"%s\", \"valid\": false, \"why_invalid\": %s}", i ? ",\n" : "",
+                    json_string(r.path).c_str(), methods[i].c_str(), json_string(e.why_invalid).c_str());
+      } else {
+        std::printf("method   %s: no pole: %s\n", methods[i].c_str(), e.why_invalid.c_str());
+      }
+      continue;
+    }
     const skypole::Score s = skypole::score(e, stack.frames[0].truth);
     if (r.json) {
       if (i) std::printf(",\n");
@@ -163,6 +185,7 @@ void print_estimate(const EstimateRequest& r) {
     }
   }
   if (r.json) std::printf(methods.size() > 1 ? "]\n" : "\n");
+  if (declined == methods.size()) throw std::invalid_argument(r.path + ": no method found a pole");
 }
 
 void add_estimate(CLI::App& app) {

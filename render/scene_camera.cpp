@@ -149,7 +149,8 @@ CameraSpec read_camera(Fields& c) {
   if (std::optional<std::string> p = c.optional_string("ocamcalib_path")) {
     // Relative to the scene file; stored absolute so that a stack's header rebuilds the lens.
     std::filesystem::path path(*p);
-    if (path.is_relative()) path = std::filesystem::path(c.file()).parent_path() / path;
+    // Relative to the file that wrote the key (an included preset resolves against its own folder).
+    if (path.is_relative()) path = std::filesystem::path(c.loc("ocamcalib_path").file).parent_path() / path;
     l.ocamcalib_path = std::filesystem::absolute(path).lexically_normal().string();
     if (!std::filesystem::exists(l.ocamcalib_path)) c.fail("ocamcalib_path", "no such file: " + l.ocamcalib_path);
   }
