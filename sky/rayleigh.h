@@ -17,6 +17,7 @@ class RayleighSky final : public SkyModel {
   std::string name() const override { return "rayleigh"; }
   Stokes stokes(const Eigen::Vector3d& d, const Eigen::Vector3d& e0, const Sun& sun) const override;
   void stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<StokesF> out) const override;
+  void stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSoA& out) const override;
   const RayleighParams& params() const { return params_; }
 
  private:

@@ -17,4 +17,25 @@ void SkyModel::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<S
   }
 }
 
+void SkyModel::stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSoA& out) const {
+  constexpr std::size_t kBlock = 128;
+  ViewRay in[kBlock];
+  StokesF res[kBlock];
+  for (std::size_t first = 0; first < rays.count; first += kBlock) {
+    const std::size_t n = rays.count - first < kBlock ? rays.count - first : kBlock;
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t i = first + j;
+      in[j].d = Eigen::Vector3f(rays.dx[i], rays.dy[i], rays.dz[i]);
+      in[j].e0 = Eigen::Vector3f(rays.ux[i], rays.uy[i], rays.uz[i]);
+    }
+    stokes(std::span<const ViewRay>(in, n), sun, std::span<StokesF>(res, n));
+    for (std::size_t j = 0; j < n; ++j) {
+      out.s0[first + j] = res[j].s0;
+      out.s1[first + j] = res[j].s1;
+      out.s2[first + j] = res[j].s2;
+      out.s3[first + j] = res[j].s3;
+    }
+  }
+}
+
 }  // namespace skypol::sky

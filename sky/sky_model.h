@@ -3,6 +3,7 @@
 // zenith and a sun at the zenith are ordinary points.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <span>
 #include <string>
@@ -29,6 +30,27 @@ struct StokesF {
   float s0, s1, s2, s3;
 };
 
+// Many rays in structure-of-arrays form: ray i has d = (dx[i], dy[i], dz[i]) and
+// e0 = (ux[i], uy[i], uz[i]). The renderer caches its camera rays this way: a model's float loop
+// then reads six contiguous arrays, which the compiler vectorizes without a gather or a copy.
+struct ViewRaysSoA {
+  std::size_t count = 0;
+  const float* dx = nullptr;
+  const float* dy = nullptr;
+  const float* dz = nullptr;
+  const float* ux = nullptr;
+  const float* uy = nullptr;
+  const float* uz = nullptr;
+};
+
+// Where a structure-of-arrays evaluation writes: count floats at each pointer (distinct arrays).
+struct StokesSoA {
+  float* s0 = nullptr;
+  float* s1 = nullptr;
+  float* s2 = nullptr;
+  float* s3 = nullptr;
+};
+
 // Models are immutable once built: every const member function may be called from many threads
 // at once (the renderer's tiles share one model).
 class SkyModel {
@@ -42,6 +64,10 @@ class SkyModel {
   // Many directions at once (the renderer's path). The default loops over stokes(); models
   // override it with a float loop the compiler vectorizes. out.size() == rays.size().
   virtual void stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<StokesF> out) const;
+
+  // The same in structure-of-arrays form (the renderer's path at one sample per pixel). The default
+  // goes through the ViewRay path in small blocks; models the renderer uses most override it.
+  virtual void stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSoA& out) const;
 };
 
 }  // namespace skypol::sky

@@ -221,6 +221,38 @@ TEST_CASE("the batch path equals the scalar path to float precision", "[rayleigh
   }
 }
 
+TEST_CASE("the structure-of-arrays path equals the ViewRay path bit for bit", "[rayleigh][batch]") {
+  std::mt19937_64 rng(4);
+  const RayleighSky sky({0.81});
+  const Sun sun = sun_at(75, 60);
+  const std::size_t n = 517;  // not a multiple of any vector width
+  std::vector<ViewRay> rays(n);
+  std::vector<float> plane[6];
+  for (auto& p : plane) p.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = random_unit(rng);
+    rays[i].d = d.cast<float>();
+    rays[i].e0 = meridian_e0(d).cast<float>();
+    for (int k = 0; k < 3; ++k) {
+      plane[k][i] = rays[i].d[k];
+      plane[3 + k][i] = rays[i].e0[k];
+    }
+  }
+  std::vector<StokesF> aos(n);
+  sky.stokes(rays, sun, aos);
+  std::vector<float> s0(n), s1(n), s2(n), s3(n, 7.0f);
+  const SkyModel& model = sky;
+  model.stokes_soa({n, plane[0].data(), plane[1].data(), plane[2].data(), plane[3].data(), plane[4].data(),
+                    plane[5].data()},
+                   sun, {s0.data(), s1.data(), s2.data(), s3.data()});
+  for (std::size_t i = 0; i < n; ++i) {
+    CHECK(s0[i] == aos[i].s0);
+    CHECK(s1[i] == aos[i].s1);
+    CHECK(s2[i] == aos[i].s2);
+    CHECK(s3[i] == 0.0f);
+  }
+}
+
 TEST_CASE("Pmax outside [0, 1] is refused", "[rayleigh][bad-input]") {
   CHECK_THROWS_WITH(RayleighSky({1.5}), Catch::Contains("max_dolp") && Catch::Contains("[0, 1]"));
   CHECK_THROWS_AS(RayleighSky({-0.1}), std::invalid_argument);
