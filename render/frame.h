@@ -48,6 +48,13 @@ struct Frame {
   std::vector<float>& channel(const std::string& name);
 };
 
+// Makes `channel` hold n floats, keeping its storage when it already does (the renderer reuses a
+// frame's channels from one frame to the next). New storage is asked of the OS in huge pages where
+// it can (Linux transparent huge pages): on a virtual machine a first-touch fault per 4 KiB page
+// costs more than rendering that page (`skypol bench`: "frame memory" against "sky render").
+// New values are zero.
+void size_channel(std::vector<float>& channel, std::size_t n);
+
 // A time series seen by one camera (one EXR file, one part per frame).
 struct Stack {
   std::shared_ptr<const camera::Camera> camera;

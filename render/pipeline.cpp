@@ -42,6 +42,7 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
     }
   }
   const Renderer renderer(cam, ro);
+  Frame f = renderer.new_frame();  // refilled for every part: pixel memory is allocated once per stack
   report.setup_seconds = since(t_setup);
 
   StackHeader header;
@@ -55,10 +56,11 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
 
   const auto t_total = Clock::now();
   double render_s = 0;
-  write_stack(out_path, truths, written, cam->width(), cam->height(), header, wo, [&](std::size_t i) {
+  write_stack_reusing(out_path, truths, written, cam->width(), cam->height(), header, wo,
+                      [&](std::size_t i) -> const Frame& {
     if (progress && i > 0) progress(i, truths.size());
     const auto t0 = Clock::now();
-    Frame f = renderer.render(*sky, truths[i].sun);
+    renderer.render(*sky, truths[i].sun, f);
     if (scene.sensor) {
       apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
       std::erase_if(f.channels, [&](const auto& c) {

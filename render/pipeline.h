@@ -13,7 +13,7 @@ struct RenderReport {
   std::string path;
   std::size_t frames = 0;
   int width = 0, height = 0;  // of each frame (after binning)
-  double setup_seconds = 0;   // camera rays (and occlusion) for the whole stack
+  double setup_seconds = 0;   // camera rays (and occlusion) and frame memory, once per stack
   double render_seconds = 0;  // sky evaluation, all frames
   double write_seconds = 0;   // encoding and writing, all frames
 };

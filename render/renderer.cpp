@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "render/polarization_math.h"
+#include "sky/vector_clones.h"
 
 namespace skypol::render {
 namespace {
@@ -29,7 +31,12 @@ std::uint64_t mix(std::uint64_t x) {
 }
 double uniform01(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
 
-// Output pointers of the first band; other bands are copies (the sky models are grey).
+// Pixels evaluated together: the model's results for a chunk stay in L1 while the derived
+// quantities are computed from them.
+constexpr std::size_t kChunk = 256;
+
+// Where the first band's channels live (null: not asked for), and the further channels that carry
+// copies of them (the sky models are grey: other bands, and R, G, B, equal the first band).
 struct Outputs {
   float* s0 = nullptr;
   float* s1 = nullptr;
@@ -38,7 +45,75 @@ struct Outputs {
   float* dolp = nullptr;
   float* aolp = nullptr;
   float* mask = nullptr;
+  std::vector<std::pair<float*, const float*>> copies;  // (destination, source), whole frames
+
+  // Rows [y0, y1) of every copy, done while the tile is still in cache.
+  void copy_rows(std::size_t first, std::size_t count) const {
+    for (const auto& [dst, src] : copies) std::memcpy(dst + first, src + first, count * sizeof(float));
+  }
 };
+
+// Gives `frame` exactly the channels these options name, each of n floats (storage reused where it
+// fits), and returns where to write.
+Outputs prepare(Frame& frame, const RenderOptions& o, int w, int h) {
+  frame.width = w;
+  frame.height = h;
+  const std::vector<std::string> names = channel_names(o);
+  std::erase_if(frame.channels,
+                [&](const auto& c) { return std::find(names.begin(), names.end(), c.first) == names.end(); });
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  for (const std::string& name : names) size_channel(frame.channels[name], n);
+
+  Outputs out;
+  const std::string& b0 = o.bands.front();
+  auto at = [&](const std::string& name) { return frame.channels.at(name).data(); };
+  auto first_band = [&](const char* c) { return wants(o, c) ? at(std::string(c) + "." + b0) : nullptr; };
+  out.s0 = first_band("S0");
+  out.s1 = first_band("S1");
+  out.s2 = first_band("S2");
+  out.s3 = first_band("S3");
+  out.dolp = first_band("DoLP");
+  out.aolp = first_band("AoLP");
+  out.mask = wants(o, "mask") ? at("mask") : nullptr;
+  for (std::size_t i = 1; i < o.bands.size(); ++i) {
+    for (const char* c : {"S0", "S1", "S2", "S3", "DoLP", "AoLP"}) {
+      if (wants(o, c)) out.copies.emplace_back(at(std::string(c) + "." + o.bands[i]), first_band(c));
+    }
+  }
+  if (is_rgb(o) && wants(o, "S0")) {
+    for (const char* c : {"R", "G", "B"}) out.copies.emplace_back(at(c), out.s0);
+  }
+  return out;
+}
+
+// DoLP and AoLP of n pixels (each output may be null). Separate plain loops over restrict-
+// qualified arrays: each vectorizes (fast_atan2 has no library call), eight wide on AVX2.
+SKYPOL_VECTOR_CLONES void derive(std::size_t n, const float* __restrict s0, const float* __restrict s1, const float* __restrict s2,
+            float* __restrict dolp, float* __restrict aolp) {
+  if (dolp) {
+    for (std::size_t j = 0; j < n; ++j) dolp[j] = dolp_of(s0[j], s1[j], s2[j]);
+  }
+  if (aolp) {
+    for (std::size_t j = 0; j < n; ++j) aolp[j] = aolp_of(s1[j], s2[j]);
+  }
+}
+
+// Zeros where no sample sees the sky (+0, whatever the sign of the model's value there). One plane
+// per loop: GCC turns four selects on one condition into a branch, and one select into a blend.
+void clear_unseen(std::size_t n, const float* __restrict weight, float* __restrict s) {
+  for (std::size_t j = 0; j < n; ++j) {
+    const float v = s[j];  // loaded unconditionally, so the select if-converts
+    s[j] = weight[j] > 0 ? v : 0.0f;
+  }
+}
+
+void clear_unseen(std::size_t n, const float* weight, const sky::StokesSoA& s) {
+  for (float* plane : {s.s0, s.s1, s.s2, s.s3}) clear_unseen(n, weight, plane);
+}
+
+void fill_zero(float* p, std::size_t first, std::size_t count) {
+  if (p && count > 0) std::memset(p + first, 0, count * sizeof(float));
+}
 
 }  // namespace
 
@@ -56,18 +131,40 @@ std::vector<std::string> channel_names(const RenderOptions& o) {
 Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
                    std::shared_ptr<const Occluders> occluders)
     : camera_(std::move(camera)), options_(std::move(options)), occluders_(std::move(occluders)) {
-  if (options_.spp == 1) {
-    const int h = camera_->height();
-    const std::size_t w = static_cast<std::size_t>(camera_->width());
-    cached_rays_.resize(w * static_cast<std::size_t>(h));
-    cached_weight_.resize(cached_rays_.size());
-    const int tile = options_.tile_rows;
-    tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
-      const int y0 = t * tile, y1 = std::min(h, y0 + tile);
-      const std::size_t first = static_cast<std::size_t>(y0) * w, count = static_cast<std::size_t>(y1 - y0) * w;
-      trace_tile(y0, y1, std::span(cached_rays_).subspan(first, count), std::span(cached_weight_).subspan(first, count));
-    });
-  }
+  if (options_.spp != 1) return;
+  const int h = camera_->height();
+  const std::size_t w = static_cast<std::size_t>(camera_->width());
+  const std::size_t n = w * static_cast<std::size_t>(h);
+  for (std::vector<float>* plane : {&dx_, &dy_, &dz_, &ux_, &uy_, &uz_, &weight_}) size_channel(*plane, n);
+  spans_.resize(static_cast<std::size_t>(h));
+  struct Scratch {
+    std::vector<sky::ViewRay> rays;
+    std::vector<float> weight;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  const int tile = options_.tile_rows;
+  tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
+    Scratch& sc = scratch.local();
+    const int y0 = t * tile, y1 = std::min(h, y0 + tile);
+    const std::size_t first = static_cast<std::size_t>(y0) * w, count = static_cast<std::size_t>(y1 - y0) * w;
+    sc.rays.resize(count);
+    sc.weight.resize(count);
+    trace_tile(y0, y1, sc.rays, sc.weight);
+    for (std::size_t k = 0; k < count; ++k) {
+      const sky::ViewRay& r = sc.rays[k];
+      dx_[first + k] = r.d.x(), dy_[first + k] = r.d.y(), dz_[first + k] = r.d.z();
+      ux_[first + k] = r.e0.x(), uy_[first + k] = r.e0.y(), uz_[first + k] = r.e0.z();
+      weight_[first + k] = sc.weight[k];
+    }
+    for (int y = y0; y < y1; ++y) {
+      // Trim the weight-0 pixels at both ends of the row (outside the image circle).
+      const float* row = sc.weight.data() + static_cast<std::size_t>(y - y0) * w;
+      std::size_t x0 = 0, x1 = w;
+      while (x0 < x1 && row[x0] == 0) ++x0;
+      while (x1 > x0 && row[x1 - 1] == 0) --x1;
+      spans_[static_cast<std::size_t>(y)] = {static_cast<int>(x0), static_cast<int>(x1)};
+    }
+  });
 }
 
 void Renderer::trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight) const {
@@ -119,31 +216,77 @@ void Renderer::trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::spa
 }
 
 Frame Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun) const {
-  const int w = camera_->width(), h = camera_->height();
-  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  const std::size_t spp = static_cast<std::size_t>(options_.spp);
-  const bool projected = camera_->transport() == camera::Transport::projected;
-  const auto& o = options_;
-
   Frame frame;
-  frame.width = w;
-  frame.height = h;
-  const std::string& b0 = o.bands.front();
-  auto make = [&](const char* what, bool wanted) -> float* {
-    if (!wanted) return nullptr;
-    std::vector<float>& v = frame.channels[what == std::string("mask") ? std::string("mask") : what + ("." + b0)];
-    v.resize(n);
-    return v.data();
-  };
-  Outputs out;
-  out.s0 = make("S0", wants(o, "S0"));
-  out.s1 = make("S1", wants(o, "S1"));
-  out.s2 = make("S2", wants(o, "S2"));
-  out.s3 = make("S3", wants(o, "S3"));
-  out.dolp = make("DoLP", wants(o, "DoLP"));
-  out.aolp = make("AoLP", wants(o, "AoLP"));
-  out.mask = make("mask", wants(o, "mask"));
+  render(sky, sun, frame);
+  return frame;
+}
 
+void Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const {
+  if (options_.spp == 1) {
+    render_cached(sky, sun, frame);
+  } else {
+    render_sampled(sky, sun, frame);
+  }
+}
+
+Frame Renderer::new_frame() const {
+  Frame frame;
+  prepare(frame, options_, camera_->width(), camera_->height());
+  return frame;
+}
+
+// One sample per pixel from the cached planes: per row, the model over the span of sky-seeing
+// pixels in chunks, written straight into the frame's channels (scratch for the Stokes components
+// the scene does not keep); zeros outside the span.
+void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const {
+  const int w = camera_->width(), h = camera_->height();
+  const Outputs out = prepare(frame, options_, w, h);
+  const bool projected = camera_->transport() == camera::Transport::projected;
+  const std::size_t width = static_cast<std::size_t>(w);
+  const int tile = options_.tile_rows;
+  tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
+    alignas(64) float scratch[4][kChunk];
+    const int y0 = t * tile, y1 = std::min(h, y0 + tile);
+    for (int y = y0; y < y1; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * width;
+      const RowSpan span = spans_[static_cast<std::size_t>(y)];
+      const std::size_t x0 = static_cast<std::size_t>(span.x0), x1 = static_cast<std::size_t>(span.x1);
+      for (float* p : {out.s0, out.s1, out.s2, out.s3, out.dolp, out.aolp, out.mask}) {
+        fill_zero(p, row, x0);
+        fill_zero(p, row + x1, width - x1);
+      }
+      for (std::size_t x = x0; x < x1; x += kChunk) {
+        const std::size_t n = std::min(kChunk, x1 - x), i = row + x;
+        const sky::StokesSoA s{out.s0 ? out.s0 + i : scratch[0], out.s1 ? out.s1 + i : scratch[1],
+                               out.s2 ? out.s2 + i : scratch[2], out.s3 ? out.s3 + i : scratch[3]};
+        const sky::ViewRaysSoA rays{n, dx_.data() + i, dy_.data() + i, dz_.data() + i,
+                                    ux_.data() + i, uy_.data() + i, uz_.data() + i};
+        sky.stokes_soa(rays, sun, s);
+        const float* weight = weight_.data() + i;
+        if (projected) {
+          for (std::size_t j = 0; j < n; ++j) {
+            if (weight[j] == 0) continue;
+            const sky::ViewRay r{{dx_[i + j], dy_[i + j], dz_[i + j]}, {ux_[i + j], uy_[i + j], uz_[i + j]}};
+            const sky::StokesF p = to_projected(*camera_, r, {s.s0[j], s.s1[j], s.s2[j], s.s3[j]});
+            s.s0[j] = p.s0, s.s1[j] = p.s1, s.s2[j] = p.s2, s.s3[j] = p.s3;
+          }
+        }
+        clear_unseen(n, weight, s);
+        derive(n, s.s0, s.s1, s.s2, out.dolp ? out.dolp + i : nullptr, out.aolp ? out.aolp + i : nullptr);
+        if (out.mask) std::memcpy(out.mask + i, weight, n * sizeof(float));
+      }
+    }
+    out.copy_rows(static_cast<std::size_t>(y0) * width, static_cast<std::size_t>(y1 - y0) * width);
+  });
+}
+
+// N samples per pixel: rays traced per tile and frame, Stokes averaged per pixel (samples that do
+// not see the sky count as black), the mask is the covered fraction.
+void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const {
+  const int w = camera_->width(), h = camera_->height();
+  const Outputs out = prepare(frame, options_, w, h);
+  const bool projected = camera_->transport() == camera::Transport::projected;
+  const std::size_t spp = static_cast<std::size_t>(options_.spp);
   struct Scratch {
     std::vector<sky::ViewRay> rays;
     std::vector<float> weight;
@@ -151,91 +294,50 @@ Frame Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun) const {
     std::vector<float> acc;
   };
   tbb::enumerable_thread_specific<Scratch> scratch;
-  const int tile = o.tile_rows;
+  const int tile = options_.tile_rows;
   tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
     Scratch& sc = scratch.local();
     const int y0 = t * tile, y1 = std::min(h, y0 + tile);
     const std::size_t first = static_cast<std::size_t>(y0) * static_cast<std::size_t>(w);
     const std::size_t pixels = static_cast<std::size_t>(y1 - y0) * static_cast<std::size_t>(w);
-    std::span<const sky::ViewRay> rays;
-    std::span<const float> weight;
-    if (!cached_rays_.empty()) {
-      rays = std::span<const sky::ViewRay>(cached_rays_).subspan(first, pixels);
-      weight = std::span<const float>(cached_weight_).subspan(first, pixels);
-    } else {
-      sc.rays.resize(pixels * spp);
-      sc.weight.resize(pixels * spp);
-      trace_tile(y0, y1, sc.rays, sc.weight);
-      rays = sc.rays;
-      weight = sc.weight;
-    }
-    sc.stokes.resize(rays.size());
-    sky.stokes(rays, sun, sc.stokes);
+    sc.rays.resize(pixels * spp);
+    sc.weight.resize(pixels * spp);
+    trace_tile(y0, y1, sc.rays, sc.weight);
+    sc.stokes.resize(sc.rays.size());
+    sky.stokes(sc.rays, sun, sc.stokes);
     if (projected) {
-      for (std::size_t i = 0; i < rays.size(); ++i) {
-        if (weight[i] > 0) sc.stokes[i] = to_projected(*camera_, rays[i], sc.stokes[i]);
+      for (std::size_t i = 0; i < sc.rays.size(); ++i) {
+        if (sc.weight[i] > 0) sc.stokes[i] = to_projected(*camera_, sc.rays[i], sc.stokes[i]);
       }
     }
-
-    // Per pixel: mean over its samples (occluded/outside samples count as black), then the
-    // derived quantities, into tile buffers by plain float loops that the compiler vectorizes;
-    // then copied to the channels the scene asked for.
-    sc.acc.resize(7 * pixels);
+    sc.acc.resize(5 * pixels);
     float* a0 = sc.acc.data();
     float* a1 = a0 + pixels;
     float* a2 = a1 + pixels;
     float* a3 = a2 + pixels;
     float* cover = a3 + pixels;
-    float* dl = cover + pixels;
-    float* al = dl + pixels;
     const sky::StokesF* st = sc.stokes.data();
-    const float* wt = weight.data();
-    if (spp == 1) {
-      for (std::size_t p = 0; p < pixels; ++p) {
-        a0[p] = wt[p] * st[p].s0;
-        a1[p] = wt[p] * st[p].s1;
-        a2[p] = wt[p] * st[p].s2;
-        a3[p] = wt[p] * st[p].s3;
-        cover[p] = wt[p];
+    const float* wt = sc.weight.data();
+    const float inv_spp = 1.0f / static_cast<float>(spp);
+    for (std::size_t p = 0; p < pixels; ++p) {
+      float s0 = 0, s1 = 0, s2 = 0, s3 = 0, c = 0;
+      for (std::size_t i = p * spp; i < (p + 1) * spp; ++i) {
+        s0 += wt[i] * st[i].s0;
+        s1 += wt[i] * st[i].s1;
+        s2 += wt[i] * st[i].s2;
+        s3 += wt[i] * st[i].s3;
+        c += wt[i];
       }
-    } else {
-      const float inv_spp = 1.0f / static_cast<float>(spp);
-      for (std::size_t p = 0; p < pixels; ++p) {
-        float s0 = 0, s1 = 0, s2 = 0, s3 = 0, c = 0;
-        for (std::size_t i = p * spp; i < (p + 1) * spp; ++i) {
-          s0 += wt[i] * st[i].s0;
-          s1 += wt[i] * st[i].s1;
-          s2 += wt[i] * st[i].s2;
-          s3 += wt[i] * st[i].s3;
-          c += wt[i];
-        }
-        a0[p] = s0 * inv_spp, a1[p] = s1 * inv_spp, a2[p] = s2 * inv_spp, a3[p] = s3 * inv_spp;
-        cover[p] = c * inv_spp;
-      }
+      a0[p] = s0 * inv_spp, a1[p] = s1 * inv_spp, a2[p] = s2 * inv_spp, a3[p] = s3 * inv_spp;
+      cover[p] = c * inv_spp;
     }
-    if (out.dolp) {
-      for (std::size_t p = 0; p < pixels; ++p) dl[p] = dolp_of(a0[p], a1[p], a2[p]);
+    clear_unseen(pixels, cover, sky::StokesSoA{a0, a1, a2, a3});
+    derive(pixels, a0, a1, a2, out.dolp ? out.dolp + first : nullptr, out.aolp ? out.aolp + first : nullptr);
+    for (auto [dst, src] : {std::pair{out.s0, a0}, {out.s1, a1}, {out.s2, a2}, {out.s3, a3}, {out.mask, cover}}) {
+      if (dst) std::memcpy(dst + first, src, pixels * sizeof(float));
     }
-    if (out.aolp) {
-      for (std::size_t p = 0; p < pixels; ++p) al[p] = aolp_of(a1[p], a2[p]);
-    }
-    const std::size_t bytes = pixels * sizeof(float);
-    for (auto [dst, src] : {std::pair{out.s0, a0}, {out.s1, a1}, {out.s2, a2}, {out.s3, a3}, {out.dolp, dl},
-                            {out.aolp, al}, {out.mask, cover}}) {
-      if (dst) std::memcpy(dst + first, src, bytes);
-    }
+    out.copy_rows(first, pixels);
   });
-
-  // The sky models are grey: every further band carries the first band's values.
-  for (std::size_t i = 1; i < o.bands.size(); ++i) {
-    for (const char* c : {"S0", "S1", "S2", "S3", "DoLP", "AoLP"}) {
-      if (wants(o, c)) frame.channels[std::string(c) + "." + o.bands[i]] = frame.channels[std::string(c) + "." + b0];
-    }
-  }
-  if (is_rgb(o) && wants(o, "S0")) {
-    for (const char* c : {"R", "G", "B"}) frame.channels[c] = frame.channels["S0." + b0];
-  }
-  return frame;
 }
 
 }  // namespace skypol::render

@@ -2,9 +2,11 @@
 // Stokes vector in the sensor frame, written as the channels a scene asks for.
 //
 // Camera rays do not change over a time series, so at 1 sample per pixel they are computed once
-// per stack (with the occlusion test) and each frame costs only the sky evaluation. With N > 1
-// samples per pixel the samples are stratified on a ⌈√N⌉×⌈√N⌉ grid with a jitter seeded by
-// (seed, pixel, sample), recomputed per frame; output bytes do not depend on the thread count.
+// per stack (with the occlusion test), kept as structure-of-arrays float planes together with each
+// row's span of sky-seeing pixels, and each frame costs only the sky evaluation over those spans
+// (pixels outside them are zeros). With N > 1 samples per pixel the samples are stratified on an
+// N-rooks pattern with a jitter seeded by (seed, pixel, sample), recomputed per frame. Output bytes
+// do not depend on the thread count.
 #pragma once
 
 #include <cstdint>
@@ -41,6 +43,15 @@ class Renderer {
   // The channels of one frame (Truth is left default; the caller fills it).
   Frame render(const sky::SkyModel& sky, const sky::Sun& sun) const;
 
+  // The same into `frame`, whose channels become exactly channel_names(options()): storage of the
+  // right size is reused, so a caller rendering a series into one frame allocates (and
+  // page-faults) only once. Every value is rewritten; the frame's truth is left as it was.
+  void render(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
+
+  // A frame with every channel allocated (zeros), for render(sky, sun, frame): lets a caller pay
+  // for the memory before timing or rendering starts.
+  Frame new_frame() const;
+
   const camera::Camera& camera() const { return *camera_; }
   const RenderOptions& options() const { return options_; }
 
@@ -48,12 +59,20 @@ class Renderer {
   // Samples of rows [y0, y1): rays[k] and weight[k] (1 where the sample sees the sky, 0 outside
   // the image circle or occluded), k = (pixel in tile)·spp + sample.
   void trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight) const;
+  void render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
+  void render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
 
   std::shared_ptr<const camera::Camera> camera_;
   RenderOptions options_;
   std::shared_ptr<const Occluders> occluders_;
-  std::vector<sky::ViewRay> cached_rays_;  // all pixels' samples at spp = 1
-  std::vector<float> cached_weight_;
+
+  // spp = 1: every pixel's ray as float planes (index y·width + x) and its weight; per row, the
+  // columns [x0, x1) outside which every weight is 0.
+  struct RowSpan {
+    int x0 = 0, x1 = 0;
+  };
+  std::vector<float> dx_, dy_, dz_, ux_, uy_, uz_, weight_;
+  std::vector<RowSpan> spans_;
 };
 
 }  // namespace skypol::render

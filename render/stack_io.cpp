@@ -50,14 +50,6 @@ Imf::Compression compression_of(const std::string& name) {
   throw std::invalid_argument("unknown compression '" + name + "'");
 }
 
-void use_all_cores() {
-  static const bool once = [] {
-    Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-    return true;
-  }();
-  (void)once;
-}
-
 template <class A, class V>
 void put(Imf::Header& h, const char* name, const V& v) {
   h.insert(name, A(v));
@@ -160,10 +152,28 @@ std::vector<std::string> split_commas(const std::string& s) {
 
 }  // namespace
 
+void use_all_cores_for_exr() {
+  static const bool once = [] {
+    Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    return true;
+  }();
+  (void)once;
+}
+
 void write_stack(const std::string& path, const std::vector<Truth>& truths, const std::vector<std::string>& channels,
                  int width, int height, const StackHeader& header, const WriteOptions& options,
                  const std::function<Frame(std::size_t)>& produce) {
-  use_all_cores();
+  Frame held;  // the previous part's frame is released when the next one arrives, as before
+  write_stack_reusing(path, truths, channels, width, height, header, options, [&](std::size_t i) -> const Frame& {
+    held = produce(i);
+    return held;
+  });
+}
+
+void write_stack_reusing(const std::string& path, const std::vector<Truth>& truths,
+                         const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                         const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce) {
+  use_all_cores_for_exr();
   namespace fs = std::filesystem;
   const fs::path target(path);
   std::error_code ec;
@@ -176,21 +186,23 @@ void write_stack(const std::string& path, const std::vector<Truth>& truths, cons
     {
       Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), static_cast<int>(headers.size()));
       const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-      std::vector<std::vector<Imath::half>> half_buffers;
+      // Half conversions reuse their buffers from part to part, like the caller's frame.
+      std::vector<std::vector<Imath::half>> half_buffers(channels.size());
       for (std::size_t i = 0; i < truths.size(); ++i) {
-        Frame frame = produce(i);
+        const Frame& frame = produce(i);
         Imf::FrameBuffer fb;
-        half_buffers.clear();
-        for (const std::string& c : channels) {
-          std::vector<float>& data = frame.channel(c);
+        for (std::size_t k = 0; k < channels.size(); ++k) {
+          const std::string& c = channels[k];
+          const std::vector<float>& data = frame.channel(c);
           if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
           if (options.half && !stays_float(c)) {
-            half_buffers.emplace_back(data.begin(), data.end());
-            fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers.back().data()), sizeof(Imath::half),
+            half_buffers[k].assign(data.begin(), data.end());
+            fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers[k].data()), sizeof(Imath::half),
                                     sizeof(Imath::half) * static_cast<std::size_t>(width)));
           } else {
-            fb.insert(c, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data()), sizeof(float),
-                                    sizeof(float) * static_cast<std::size_t>(width)));
+            // An output slice is only read; Imf::Slice takes a non-const pointer for both directions.
+            fb.insert(c, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(data.data())),
+                                    sizeof(float), sizeof(float) * static_cast<std::size_t>(width)));
           }
         }
         Imf::OutputPart part(file, static_cast<int>(i));
@@ -212,7 +224,7 @@ void write_stack(const std::string& path, const std::vector<Truth>& truths, cons
 }
 
 Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels) {
-  use_all_cores();
+  use_all_cores_for_exr();
   Stack stack;
   try {
     Imf::MultiPartInputFile file(path.c_str());

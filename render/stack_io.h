@@ -32,6 +32,17 @@ void write_stack(const std::string& path, const std::vector<Truth>& truths, cons
                  int width, int height, const StackHeader& header, const WriteOptions& options,
                  const std::function<Frame(std::size_t)>& produce);
 
+// The same, with produce(i) returning a frame that the caller owns and may refill for part i + 1
+// (render::Renderer::render(sky, sun, frame)): a stack's pixel memory is then allocated once,
+// not once per part, which on a virtual machine costs more than the rendering (`skypol bench`).
+void write_stack_reusing(const std::string& path, const std::vector<Truth>& truths,
+                         const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                         const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce);
+
+// OpenEXR's global thread pool as the writer and the reader set it (one thread per hardware
+// thread); exposed so that a benchmark of OpenEXR alone runs with the same settings.
+void use_all_cores_for_exr();
+
 // Reads a stack back, all channels or only those named (a missing one is an error naming it).
 // Rebuilds the camera from the header. Throws SceneError for a file that is not a skypol stack.
 Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels = {});

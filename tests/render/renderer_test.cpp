@@ -1,9 +1,12 @@
 // The renderer against independent evaluations: each pixel equals the sky model at that pixel's
 // ray, the mask is the image circle, output is identical whatever the thread count, and a pole
-// pixel's DoLP does not change over a day (SkyPole SI eq. 4).
+// pixel's DoLP does not change over a day (SkyPole SI eq. 4). Rendering into a reused frame gives
+// the same bytes as into a new one, and a scene pays only for the channels it asks for.
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numbers>
 
 #include <tbb/global_control.h>
@@ -18,7 +21,8 @@ using namespace skypol;
 
 namespace {
 
-std::shared_ptr<const camera::Camera> small_fisheye(double heading_deg = 0, int w = 96, int h = 80) {
+std::shared_ptr<const camera::Camera> small_fisheye(double heading_deg = 0, int w = 96, int h = 80,
+                                                    camera::Transport transport = camera::Transport::meridional) {
   camera::Intrinsics k;
   k.width = w;
   k.height = h;
@@ -26,7 +30,7 @@ std::shared_ptr<const camera::Camera> small_fisheye(double heading_deg = 0, int 
   k.cx = (w - 1) / 2.0;
   k.cy = (h - 1) / 2.0;
   auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, 92.5 * std::numbers::pi / 180);
-  return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(heading_deg, 0, 0));
+  return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(heading_deg, 0, 0), transport);
 }
 
 sky::Sun sun_at(double az_deg, double el_deg) {
@@ -158,4 +162,131 @@ TEST_CASE("no NaN or Inf for a sun at the zenith and below the horizon", "[rende
       for (float v : data) REQUIRE(std::isfinite(v));
     }
   }
+}
+
+namespace {
+
+// Bytes, not values: -0 and +0 differ, NaN equals itself.
+bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+// Blocks every direction less than 0.15 from the north–south plane (|d.x| < 0.15): a band across
+// the middle of the image, so blocked pixels lie between seen ones on the same rows.
+class MeridianBand final : public render::Occluders {
+ public:
+  void occluded(std::span<const Eigen::Vector3f> dirs, std::span<std::uint8_t> out) const override {
+    for (std::size_t i = 0; i < dirs.size(); ++i) out[i] = std::abs(dirs[i].x()) < 0.15f ? 1 : 0;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("rendering into a used frame gives the bytes of a new frame and keeps its memory", "[renderer][reuse]") {
+  const auto cam = small_fisheye(25);
+  const sky::RayleighSky sky_model(sky::RayleighParams{0.9});
+  const sky::Sun sun_a = sun_at(70, 30), sun_b = sun_at(250, 5);
+  for (int spp : {1, 4}) {
+    INFO("spp=" << spp);
+    render::RenderOptions o;
+    o.spp = spp;
+    o.channels = {"S0", "S1", "S2", "S3", "DoLP", "AoLP", "mask"};
+    const render::Renderer r(cam, o);
+    const render::Frame fresh = r.render(sky_model, sun_a);
+
+    render::Frame used = r.new_frame();
+    // Garbage everywhere, a channel the options do not name, then another sun first.
+    for (auto& [name, data] : used.channels) std::fill(data.begin(), data.end(), std::numeric_limits<float>::quiet_NaN());
+    used.channels["junk"] = std::vector<float>(5, 1.0f);
+    r.render(sky_model, sun_b, used);
+    std::map<std::string, const float*> storage;
+    for (const auto& [name, data] : used.channels) storage[name] = data.data();
+    r.render(sky_model, sun_a, used);
+
+    CHECK_FALSE(used.has("junk"));
+    REQUIRE(used.channels.size() == fresh.channels.size());
+    for (const auto& [name, data] : fresh.channels) {
+      INFO(name);
+      CHECK(same_bytes(data, used.channel(name)));
+      CHECK(used.channel(name).data() == storage.at(name));  // no allocation on the second frame
+    }
+  }
+}
+
+TEST_CASE("a frame holds only the channels asked for, with the same values", "[renderer][pay-for-what-you-ask]") {
+  const auto cam = small_fisheye(5);
+  const sky::RayleighSky sky_model;
+  const sky::Sun sun = sun_at(160, 40);
+  const render::Frame all = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun);
+  render::RenderOptions only;
+  only.channels = {"AoLP"};
+  const render::Frame f = render::Renderer(cam, only).render(sky_model, sun);
+  REQUIRE(f.channels.size() == 1);
+  CHECK(same_bytes(f.channel("AoLP.Y"), all.channel("AoLP.Y")));
+}
+
+TEST_CASE("every band carries the first band's values; RGB adds R, G, B", "[renderer][bands]") {
+  const auto cam = small_fisheye(5);
+  const sky::RayleighSky sky_model;
+  render::RenderOptions o;
+  o.bands = {"R", "G", "B"};
+  const render::Frame f = render::Renderer(cam, o).render(sky_model, sun_at(10, 50));
+  for (const char* c : {"S0", "S1", "S2", "DoLP", "AoLP"}) {
+    for (const char* b : {"G", "B"}) CHECK(same_bytes(f.channel(std::string(c) + "." + b), f.channel(std::string(c) + ".R")));
+  }
+  for (const char* c : {"R", "G", "B"}) CHECK(same_bytes(f.channel(c), f.channel("S0.R")));
+}
+
+TEST_CASE("occluded pixels inside the image circle are black, unpolarized and +0", "[renderer][occluders]") {
+  const auto cam = small_fisheye(0);
+  const sky::RayleighSky sky_model;
+  const sky::Sun sun = sun_at(200, 25);
+  const render::Renderer r(cam, render::RenderOptions{}, std::make_shared<MeridianBand>());
+  const render::Frame f = r.render(sky_model, sun);
+  int blocked = 0, open = 0;
+  for (int y = 0; y < cam->height(); ++y) {
+    for (int x = 0; x < cam->width(); ++x) {
+      const std::size_t i = static_cast<std::size_t>(y * cam->width() + x);
+      const auto ray = cam->ray(Eigen::Vector2d(x, y));
+      if (!ray) continue;
+      const bool hidden = std::abs(ray->d.cast<float>().x()) < 0.15f;
+      REQUIRE(f.channel("mask")[i] == (hidden ? 0.0f : 1.0f));
+      if (hidden) {
+        ++blocked;
+        for (const char* c : {"S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y"}) {
+          INFO(c);
+          CHECK(f.channel(c)[i] == 0.0f);
+          CHECK_FALSE(std::signbit(f.channel(c)[i]));
+        }
+      } else {
+        ++open;
+        CHECK(f.channel("S0.Y")[i] == Approx(sky_model.stokes(ray->d, ray->e0, sun).s0).epsilon(1e-5));
+      }
+    }
+  }
+  CHECK(blocked > 300);
+  CHECK(open > 2000);
+}
+
+TEST_CASE("projected transport: DoLP as the model, AoLP mapped by the camera", "[renderer][transport]") {
+  const auto cam = small_fisheye(30, 96, 80, camera::Transport::projected);
+  const sky::RayleighSky sky_model;
+  const sky::Sun sun = sun_at(300, 15);
+  const render::Frame f = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun);
+  int checked = 0;
+  for (int y = 0; y < cam->height(); y += 3) {
+    for (int x = 0; x < cam->width(); x += 3) {
+      const std::size_t i = static_cast<std::size_t>(y * cam->width() + x);
+      const auto ray = cam->ray(Eigen::Vector2d(x, y));
+      if (!ray) continue;
+      const sky::Stokes s = sky_model.stokes(ray->d, ray->e0, sun);
+      CHECK(f.channel("DoLP.Y")[i] == Approx(s.dolp()).margin(2e-6));
+      if (s.dolp() < 1e-3) continue;
+      double diff = double{f.channel("AoLP.Y")[i]} - cam->sensor_angle(*ray, s.aolp());
+      diff -= std::numbers::pi * std::round(diff / std::numbers::pi);
+      CHECK(std::abs(diff) < 1e-5);
+      ++checked;
+    }
+  }
+  CHECK(checked > 300);
 }
