@@ -1,39 +1,117 @@
 // `skypol bench SCENE`: what a frame costs. Figures only; nothing here is a test.
+// --json prints the same figures and their context as one JSON object, for scripts.
 #include <cstdio>
-#include <ctime>
+#include <string>
 
 #include "cli/commands.h"
 #include "render/benchmark.h"
 
 namespace skypol::cli {
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+void print_text(const std::string& scene, const render::BenchFigures& b) {
+  const render::BenchContext& c = b.context;
+  std::printf("skypol bench  %s  %s\n", scene.c_str(), c.date_utc.c_str());
+  std::printf("machine               %s, %d hardware threads (renderer uses %d), load average %.2f\n", c.cpu.c_str(),
+              c.hardware_threads, c.tbb_threads, c.load_average);
+  std::printf("build                 %s, %s\n", c.build_type.c_str(), c.compiler.c_str());
+  std::printf("frame                 %d x %d px, spp %d, %d frame(s), %zu channels, %s%s, %.1f MB of pixels per frame\n",
+              b.width, b.height, b.spp, b.frames, b.channels.size(), b.compression.c_str(), b.half ? ", half" : "",
+              b.mb_per_frame);
+  std::printf("camera rays (once)    %8.1f ms\n", b.ray_setup_ms);
+  std::printf("frame memory (once)   %8.1f ms\n", b.frame_alloc_ms);
+  std::printf("sky render            %8.1f ms/frame   %8.1f Mpix/s   (best frame %.1f ms, %.1f Mpix/s)\n",
+              b.frame_render_ms, b.sky_mpix_per_s, b.frame_render_best_ms, b.sky_mpix_per_s_best);
+  std::printf("  into a new frame    %8.1f ms/frame   (allocation and first-touch page faults included)\n",
+              b.fresh_frame_render_ms);
+  if (b.openexr_write_ms == 0) return;  // --render-only
+  std::printf("OpenEXR alone write   %8.1f ms/frame                       (best frame %.1f ms)\n", b.openexr_write_ms,
+              b.openexr_write_best_ms);
+  std::printf("skypol stack write    %8.1f ms/frame   (%.2fx OpenEXR alone)   (best frame %.1f ms, %.2fx)\n",
+              b.skypol_write_ms, b.skypol_write_ms / b.openexr_write_ms, b.skypol_write_best_ms,
+              b.skypol_write_best_ms / b.openexr_write_best_ms);
+  std::printf("render + write, best  %8.1f ms/frame   (%.2fx OpenEXR alone's best)\n", b.render_and_write_best_ms,
+              b.render_and_write_best_ms / b.openexr_write_best_ms);
+  std::printf("end to end            %8.1f ms/frame   (%.2fx OpenEXR alone)   (skypol's pipeline, mean)\n",
+              b.end_to_end_ms, b.end_to_end_ms / b.openexr_write_ms);
+}
+
+void print_json(const std::string& scene, const render::BenchFigures& b) {
+  const render::BenchContext& c = b.context;
+  std::string channels;
+  for (const std::string& ch : b.channels) channels += (channels.empty() ? "" : ", ") + quoted(ch);
+  std::printf("{\"scene\": %s, \"date_utc\": %s,\n", quoted(scene).c_str(), quoted(c.date_utc).c_str());
+  std::printf(" \"machine\": {\"cpu\": %s, \"hardware_threads\": %d, \"renderer_threads\": %d, \"load_average\": %.2f},\n",
+              quoted(c.cpu).c_str(), c.hardware_threads, c.tbb_threads, c.load_average);
+  std::printf(" \"build\": {\"type\": %s, \"compiler\": %s},\n", quoted(c.build_type).c_str(), quoted(c.compiler).c_str());
+  std::printf(" \"frame\": {\"width\": %d, \"height\": %d, \"spp\": %d, \"frames\": %d, \"channels\": [%s], "
+              "\"compression\": %s, \"half\": %s, \"mb_per_frame\": %.3f},\n",
+              b.width, b.height, b.spp, b.frames, channels.c_str(), quoted(b.compression).c_str(),
+              b.half ? "true" : "false", b.mb_per_frame);
+  std::printf(" \"ray_setup_ms\": %.3f, \"frame_alloc_ms\": %.3f,\n", b.ray_setup_ms, b.frame_alloc_ms);
+  std::printf(" \"sky_render_ms_per_frame\": %.3f, \"sky_mpix_per_s\": %.3f, \"new_frame_render_ms\": %.3f,\n",
+              b.frame_render_ms, b.sky_mpix_per_s, b.fresh_frame_render_ms);
+  std::printf(" \"sky_render_best_ms\": %.3f, \"sky_mpix_per_s_best\": %.3f", b.frame_render_best_ms,
+              b.sky_mpix_per_s_best);
+  if (b.openexr_write_ms == 0) {  // --render-only
+    std::printf("}\n");
+    return;
+  }
+  std::printf(",\n");
+  std::printf(" \"openexr_write_ms_per_frame\": %.3f, \"openexr_write_best_ms\": %.3f,\n", b.openexr_write_ms,
+              b.openexr_write_best_ms);
+  std::printf(" \"skypol_write_ms_per_frame\": %.3f, \"skypol_write_best_ms\": %.3f, "
+              "\"render_and_write_best_ms\": %.3f,\n",
+              b.skypol_write_ms, b.skypol_write_best_ms, b.render_and_write_best_ms);
+  std::printf(" \"end_to_end_ms_per_frame\": %.3f,\n", b.end_to_end_ms);
+  std::printf(" \"skypol_write_vs_openexr\": %.4f, \"render_and_write_best_vs_openexr_best\": %.4f, "
+              "\"end_to_end_vs_openexr\": %.4f}\n",
+              b.skypol_write_ms / b.openexr_write_ms, b.render_and_write_best_ms / b.openexr_write_best_ms,
+              b.end_to_end_ms / b.openexr_write_ms);
+}
+
+}  // namespace
 
 void add_bench(CLI::App& app) {
   struct Args {
     std::string scene = "scenes/skypole-marseille.toml";
     int frames = 3;
     std::string scratch = "out/bench-scratch";
+    bool json = false;
+    bool render_only = false;
   };
   auto a = std::make_shared<Args>();
   CLI::App* bench = app.add_subcommand("bench", "Measure render and write throughput on a scene");
   bench->add_option("scene", a->scene, "Scene file (default: the SkyPole paper's, full resolution)");
   bench->add_option("-n,--frames", a->frames, "Frames to time")->check(CLI::Range(1, 1000));
   bench->add_option("--scratch", a->scratch, "Folder for temporary files (removed afterwards)");
+  bench->add_flag("--json", a->json, "Print the figures and their context as one JSON object");
+  bench->add_flag("--render-only", a->render_only, "Time the renderer only (no writing, no end-to-end run)");
   bench->callback([a] {
     const render::Scene scene = render::load_scene(a->scene);
-    const render::BenchFigures b = render::bench_render(scene, a->frames, a->scratch);
-    char date[32];
-    const std::time_t now = std::time(nullptr);
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    std::printf("skypol bench  %s  %s  threads %d\n", a->scene.c_str(), date, b.threads);
-    std::printf("frame                 %d x %d px, spp %d, %d frame(s), %.1f MB of pixels per frame\n", b.width,
-                b.height, b.spp, b.frames, b.mb_per_frame);
-    std::printf("camera rays (once)    %8.1f ms\n", 1e3 * b.ray_setup_s);
-    std::printf("sky render            %8.1f ms/frame   %8.1f Mpix/s\n", b.frame_render_ms, b.sky_mpix_per_s);
-    std::printf("OpenEXR alone write   %8.1f ms/frame\n", b.openexr_write_ms);
-    std::printf("skypol stack write    %8.1f ms/frame   (%.2fx OpenEXR alone)\n", b.skypol_write_ms,
-                b.skypol_write_ms / b.openexr_write_ms);
-    std::printf("end to end            %8.1f ms/frame   (%.2fx OpenEXR alone)\n", b.end_to_end_ms,
-                b.end_to_end_ms / b.openexr_write_ms);
+    const render::BenchFigures b = render::bench_render(scene, a->frames, a->scratch, a->render_only);
+    if (a->json) {
+      print_json(a->scene, b);
+    } else {
+      print_text(a->scene, b);
+    }
   });
 }
 

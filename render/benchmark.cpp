@@ -1,7 +1,11 @@
 #include "render/benchmark.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include <OpenEXR/ImfChannelList.h>
@@ -16,15 +20,19 @@
 #include "render/stack_io.h"
 #include "render/truth.h"
 
+#ifndef SKYPOL_BUILD_TYPE
+#define SKYPOL_BUILD_TYPE "unknown"
+#endif
+
 namespace skypol::render {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // OpenEXR by itself: one single-part file with the same channels, pixel type and compression.
-double openexr_write_seconds(const Frame& f, const std::vector<std::string>& channels, const WriteOptions& o,
-                             const std::string& path) {
+double openexr_write_ms(const Frame& f, const std::vector<std::string>& channels, const WriteOptions& o,
+                        const std::string& path) {
   const auto t0 = Clock::now();
   Imf::Header h(f.width, f.height);
   h.compression() = o.compression == "none" ? Imf::NO_COMPRESSION
@@ -49,20 +57,74 @@ double openexr_write_seconds(const Frame& f, const std::vector<std::string>& cha
   Imf::OutputFile file(path.c_str(), h);
   file.setFrameBuffer(fb);
   file.writePixels(f.height);
-  return since(t0);
+  return ms_since(t0);
 }
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("model name", 0) == 0) {
+      const std::size_t colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(line.find_first_not_of(" \t", colon + 1));
+    }
+  }
+  return "unknown";
+}
+
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double one = -1;
+  return in >> one ? one : -1;
+}
+
+// Mean and best of a series of measurements (on a shared machine others' load only adds time).
+struct Timing {
+  double sum = 0, best = 0;
+  int count = 0;
+  double add(double ms) {
+    best = count == 0 ? ms : std::min(best, ms);
+    sum += ms;
+    ++count;
+    return ms;
+  }
+  double mean() const { return count ? sum / count : 0; }
+};
 
 }  // namespace
 
-BenchFigures bench_render(const Scene& scene_in, int frames, const std::string& scratch_dir) {
+BenchContext bench_context() {
+  BenchContext c;
+  c.cpu = cpu_model();
+  c.hardware_threads = static_cast<int>(std::thread::hardware_concurrency());
+  c.tbb_threads = tbb::info::default_concurrency();
+  c.build_type = SKYPOL_BUILD_TYPE;
+#if defined(__clang__)
+  c.compiler = std::string("Clang ") + __clang_version__;
+#elif defined(__GNUC__)
+  c.compiler = std::string("GCC ") + __VERSION__;
+#else
+  c.compiler = "unknown";
+#endif
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  c.date_utc = date;
+  c.load_average = load_average();
+  return c;
+}
+
+BenchFigures bench_render(const Scene& scene_in, int frames, const std::string& scratch_dir, bool render_only) {
   namespace fs = std::filesystem;
   fs::create_directories(scratch_dir);
   Scene scene = scene_in;
   if (static_cast<int>(scene.times.size()) > frames) scene.times.resize(static_cast<std::size_t>(frames));
   BenchFigures b;
+  b.context = bench_context();
   b.spp = scene.render.spp;
-  b.frames = static_cast<int>(scene.times.size());
-  b.threads = tbb::info::default_concurrency();
+  b.frames = frames;
+  b.compression = scene.output.compression;
+  b.half = scene.output.half;
+  use_all_cores_for_exr();  // OpenEXR alone and skypol's writer use the same thread pool
 
   auto cam = build_camera(scene.camera);
   b.width = cam->width();
@@ -75,41 +137,59 @@ BenchFigures bench_render(const Scene& scene_in, int frames, const std::string& 
   ro.channels = scene.output.channels;
   auto t0 = Clock::now();
   const Renderer renderer(cam, ro);
-  b.ray_setup_s = since(t0);
+  b.ray_setup_ms = ms_since(t0);
+  t0 = Clock::now();
+  Frame f = renderer.new_frame();
+  b.frame_alloc_ms = ms_since(t0);
 
-  const std::vector<std::string> channels = channel_names(ro);
+  b.channels = channel_names(ro);
+  for (const std::string& c : b.channels) b.mb_per_frame += static_cast<double>(f.channel(c).size() * sizeof(float)) / 1e6;
   WriteOptions wo;
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
-  double render_s = 0, exr_s = 0, skypol_s = 0;
-  for (std::size_t i = 0; i < scene.times.size(); ++i) {
-    const Truth truth = make_truth(scene, *cam, scene.times[i]);
+  StackHeader header;
+  header.bands = ro.bands;
+  header.camera_description = scene.camera.description;
+  header.scene_text = scene.text;
+  header.sky_model = sky_model->name();
+  // Each round renders one frame, writes it with OpenEXR alone, then with skypol's writer: the
+  // three measurements of a round are seconds apart, so a round's ratio sees the same load.
+  Timing render, exr, skypol, round;
+  for (int i = 0; i < frames; ++i) {
+    const Truth truth = make_truth(scene, *cam, scene.times[static_cast<std::size_t>(i) % scene.times.size()]);
     t0 = Clock::now();
-    Frame f = renderer.render(*sky_model, truth.sun);
-    render_s += since(t0);
+    renderer.render(*sky_model, truth.sun, f);
+    const double render_ms = render.add(ms_since(t0));
+    if (render_only) continue;
     f.truth = truth;
-    b.mb_per_frame = 0;
-    for (const std::string& c : channels) b.mb_per_frame += static_cast<double>(f.channel(c).size() * sizeof(float)) / 1e6;
-    exr_s += openexr_write_seconds(f, channels, wo, (fs::path(scratch_dir) / "openexr.exr").string());
+    exr.add(openexr_write_ms(f, b.channels, wo, (fs::path(scratch_dir) / "openexr.exr").string()));
     t0 = Clock::now();
-    StackHeader header;
-    header.bands = ro.bands;
-    header.camera_description = scene.camera.description;
-    header.scene_text = scene.text;
-    header.sky_model = sky_model->name();
-    write_stack((fs::path(scratch_dir) / "skypol.exr").string(), {truth}, channels, f.width, f.height, header, wo,
-                [&](std::size_t) { return f; });
-    skypol_s += since(t0);
+    write_stack_reusing((fs::path(scratch_dir) / "skypol.exr").string(), {truth}, b.channels, f.width, f.height, header,
+                        wo, [&](std::size_t) -> const Frame& { return f; });
+    round.add(render_ms + skypol.add(ms_since(t0)));
   }
-  const double n = static_cast<double>(scene.times.size());
-  b.frame_render_ms = 1e3 * render_s / n;
-  b.sky_mpix_per_s = static_cast<double>(b.width) * b.height * n / render_s / 1e6;
-  b.openexr_write_ms = 1e3 * exr_s / n;
-  b.skypol_write_ms = 1e3 * skypol_s / n;
+  const double mpix = static_cast<double>(b.width) * b.height / 1e6;
+  b.frame_render_ms = render.mean();
+  b.frame_render_best_ms = render.best;
+  b.sky_mpix_per_s = mpix / b.frame_render_ms * 1e3;
+  b.sky_mpix_per_s_best = mpix / render.best * 1e3;
+  b.openexr_write_ms = exr.mean();
+  b.openexr_write_best_ms = exr.best;
+  b.skypol_write_ms = skypol.mean();
+  b.skypol_write_best_ms = skypol.best;
+  b.render_and_write_best_ms = round.best;
+  {
+    // What a caller of the frame-returning render() pays: a new frame's memory every time.
+    const Truth truth = make_truth(scene, *cam, scene.times.front());
+    t0 = Clock::now();
+    const Frame fresh = renderer.render(*sky_model, truth.sun);
+    b.fresh_frame_render_ms = ms_since(t0);
+  }
 
-  t0 = Clock::now();
-  const RenderReport r = render_scene(scene, (fs::path(scratch_dir) / "stack.exr").string());
-  b.end_to_end_ms = 1e3 * (r.render_seconds + r.write_seconds) / n;
+  if (!render_only) {
+    const RenderReport r = render_scene(scene, (fs::path(scratch_dir) / "stack.exr").string());
+    b.end_to_end_ms = 1e3 * (r.render_seconds + r.write_seconds) / static_cast<double>(scene.times.size());
+  }
   fs::remove_all(scratch_dir);
   return b;
 }
