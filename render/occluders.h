@@ -1,7 +1,8 @@
 // What blocks the sky: buildings, a horizon profile, meshes. The renderer asks one question of it:
-// does the ray from the observer (ENU origin) along each direction hit anything? The Embree
-// implementation lives behind this interface so that nothing else includes embree3/rtcore.h, and
-// a scene without occluders never creates one (DESIGN.md: pay for what the scene asks for).
+// does the ray from the observer's eye along each direction hit anything? The Embree
+// implementation (render/occluders_embree.h) lives behind this interface so that nothing else
+// includes embree3/rtcore.h, and a scene without occluders never creates one (DESIGN.md: pay for
+// what the scene asks for).
 #pragma once
 
 #include <cstdint>
@@ -14,8 +15,18 @@ namespace skypol::render {
 class Occluders {
  public:
   virtual ~Occluders() = default;
-  // out[i] = 1 if the ray from the origin along dirs[i] (unit, ENU) hits geometry, else 0.
+  // out[i] = 1 if the ray from the eye along dirs[i] (unit, ENU) hits geometry, else 0.
+  // out.size() == dirs.size(). Safe to call from many threads at once.
   virtual void occluded(std::span<const Eigen::Vector3f> dirs, std::span<std::uint8_t> out) const = 0;
+
+  // Whether occluded pixels show a shaded surface (OccludedPixels::shaded) instead of nothing.
+  virtual bool shaded() const { return false; }
+  // out[i] = S0 of the surface the ray along dirs[i] meets first (render/occluder_spec.h's shaded
+  // rule), 0 where it meets none. Only called when shaded().
+  virtual void surface_s0(std::span<const Eigen::Vector3f> dirs, std::span<float> out) const {
+    for (float& v : out) v = 0;
+    static_cast<void>(dirs);
+  }
 };
 
 }  // namespace skypol::render

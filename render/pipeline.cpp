@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "render/occluders_embree.h"
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
 #include "render/stack_io.h"
@@ -41,7 +42,7 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
       if (std::find(ro.channels.begin(), ro.channels.end(), s) == ro.channels.end()) ro.channels.emplace_back(s);
     }
   }
-  const Renderer renderer(cam, ro);
+  const Renderer renderer(cam, ro, make_occluders(scene.occluders));  // null without occluders
   Frame f = renderer.new_frame();  // refilled for every part: pixel memory is allocated once per stack
   report.setup_seconds = since(t_setup);
 

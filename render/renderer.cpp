@@ -9,6 +9,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "render/occlusion_pass.h"
 #include "render/polarization_math.h"
 #include "sky/vector_clones.h"
 
@@ -111,6 +112,11 @@ void clear_unseen(std::size_t n, const float* weight, const sky::StokesSoA& s) {
   for (float* plane : {s.s0, s.s1, s.s2, s.s3}) clear_unseen(n, weight, plane);
 }
 
+// Shaded occluders: their unpolarized light on top of what the sky gives (render/occluder_spec.h).
+void add_surface(std::size_t n, const float* __restrict surface, float* __restrict s0) {
+  for (std::size_t j = 0; j < n; ++j) s0[j] += surface[j];
+}
+
 void fill_zero(float* p, std::size_t first, std::size_t count) {
   if (p && count > 0) std::memset(p + first, 0, count * sizeof(float));
 }
@@ -131,10 +137,14 @@ std::vector<std::string> channel_names(const RenderOptions& o) {
 Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
                    std::shared_ptr<const Occluders> occluders)
     : camera_(std::move(camera)), options_(std::move(options)), occluders_(std::move(occluders)) {
-  if (options_.spp != 1) return;
   const int h = camera_->height();
   const std::size_t w = static_cast<std::size_t>(camera_->width());
   const std::size_t n = w * static_cast<std::size_t>(h);
+  if (occluders_ && occluders_->shaded()) surface_s0_.resize(n);
+  if (options_.spp != 1) {
+    if (!surface_s0_.empty()) shade_sampled();
+    return;
+  }
   for (std::vector<float>* plane : {&dx_, &dy_, &dz_, &ux_, &uy_, &uz_, &weight_}) size_channel(*plane, n);
   spans_.resize(static_cast<std::size_t>(h));
   struct Scratch {
@@ -149,7 +159,9 @@ Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions o
     const std::size_t first = static_cast<std::size_t>(y0) * w, count = static_cast<std::size_t>(y1 - y0) * w;
     sc.rays.resize(count);
     sc.weight.resize(count);
-    trace_tile(y0, y1, sc.rays, sc.weight);
+    const std::span<float> surface =
+        surface_s0_.empty() ? std::span<float>{} : std::span(surface_s0_).subspan(first, count);
+    trace_tile(y0, y1, sc.rays, sc.weight, surface);
     for (std::size_t k = 0; k < count; ++k) {
       const sky::ViewRay& r = sc.rays[k];
       dx_[first + k] = r.d.x(), dy_[first + k] = r.d.y(), dz_[first + k] = r.d.z();
@@ -157,17 +169,40 @@ Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions o
       weight_[first + k] = sc.weight[k];
     }
     for (int y = y0; y < y1; ++y) {
-      // Trim the weight-0 pixels at both ends of the row (outside the image circle).
-      const float* row = sc.weight.data() + static_cast<std::size_t>(y - y0) * w;
+      // Trim the weight-0 pixels at both ends of the row (outside the image circle), keeping
+      // those that show a shaded occluder.
+      const std::size_t at = static_cast<std::size_t>(y - y0) * w;
+      const float* row = sc.weight.data() + at;
+      const float* lit = surface.empty() ? nullptr : surface.data() + at;
+      auto dark = [&](std::size_t x) { return row[x] == 0 && (!lit || lit[x] == 0); };
       std::size_t x0 = 0, x1 = w;
-      while (x0 < x1 && row[x0] == 0) ++x0;
-      while (x1 > x0 && row[x1 - 1] == 0) --x1;
+      while (x0 < x1 && dark(x0)) ++x0;
+      while (x1 > x0 && dark(x1 - 1)) --x1;
       spans_[static_cast<std::size_t>(y)] = {static_cast<int>(x0), static_cast<int>(x1)};
     }
   });
 }
 
-void Renderer::trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight) const {
+void Renderer::shade_sampled() {
+  // The occluder surfaces do not change over a stack: their per-pixel mean S0 once, here.
+  const int h = camera_->height(), tile = options_.tile_rows;
+  const std::size_t w = static_cast<std::size_t>(camera_->width()), spp = static_cast<std::size_t>(options_.spp);
+  tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
+    const int y0 = t * tile, y1 = std::min(h, y0 + tile);
+    const std::size_t first = static_cast<std::size_t>(y0) * w, count = static_cast<std::size_t>(y1 - y0) * w;
+    std::vector<sky::ViewRay> rays(count * spp);
+    std::vector<float> weight(count * spp), s0(count * spp);
+    trace_tile(y0, y1, rays, weight, s0);
+    for (std::size_t p = 0; p < count; ++p) {
+      float sum = 0;
+      for (std::size_t i = p * spp; i < (p + 1) * spp; ++i) sum += s0[i];
+      surface_s0_[first + p] = sum / static_cast<float>(spp);
+    }
+  });
+}
+
+void Renderer::trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight,
+                          std::span<float> surface_s0) const {
   const int w = camera_->width();
   const int spp = options_.spp;
   std::vector<int> perm(static_cast<std::size_t>(spp));
@@ -204,15 +239,7 @@ void Renderer::trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::spa
       }
     }
   }
-  if (occluders_) {
-    std::vector<Eigen::Vector3f> dirs(k);
-    std::vector<std::uint8_t> hit(k);
-    for (std::size_t i = 0; i < k; ++i) dirs[i] = rays[i].d;
-    occluders_->occluded(dirs, hit);
-    for (std::size_t i = 0; i < k; ++i) {
-      if (hit[i]) weight[i] = 0;
-    }
-  }
+  if (occluders_) apply_occluders(*occluders_, rays.first(k), weight.first(k), surface_s0);
 }
 
 Frame Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun) const {
@@ -272,6 +299,7 @@ void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Fram
           }
         }
         clear_unseen(n, weight, s);
+        if (!surface_s0_.empty()) add_surface(n, surface_s0_.data() + i, s.s0);
         derive(n, s.s0, s.s1, s.s2, out.dolp ? out.dolp + i : nullptr, out.aolp ? out.aolp + i : nullptr);
         if (out.mask) std::memcpy(out.mask + i, weight, n * sizeof(float));
       }
@@ -332,6 +360,7 @@ void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Fra
       cover[p] = c * inv_spp;
     }
     clear_unseen(pixels, cover, sky::StokesSoA{a0, a1, a2, a3});
+    if (!surface_s0_.empty()) add_surface(pixels, surface_s0_.data() + first, a0);
     derive(pixels, a0, a1, a2, out.dolp ? out.dolp + first : nullptr, out.aolp ? out.aolp + first : nullptr);
     for (auto [dst, src] : {std::pair{out.s0, a0}, {out.s1, a1}, {out.s2, a2}, {out.s3, a3}, {out.mask, cover}}) {
       if (dst) std::memcpy(dst + first, src, pixels * sizeof(float));

@@ -57,8 +57,12 @@ class Renderer {
 
  private:
   // Samples of rows [y0, y1): rays[k] and weight[k] (1 where the sample sees the sky, 0 outside
-  // the image circle or occluded), k = (pixel in tile)·spp + sample.
-  void trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight) const;
+  // the image circle or occluded), k = (pixel in tile)·spp + sample. surface_s0, if not empty,
+  // receives the S0 of the occluder each sample meets (shaded occluders; 0 elsewhere).
+  void trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::span<float> weight,
+                  std::span<float> surface_s0 = {}) const;
+  // Shaded occluders at spp > 1: surface_s0_ as the mean over each pixel's samples.
+  void shade_sampled();
   void render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
   void render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
 
@@ -73,6 +77,10 @@ class Renderer {
   };
   std::vector<float> dx_, dy_, dz_, ux_, uy_, uz_, weight_;
   std::vector<RowSpan> spans_;
+
+  // Shaded occluders only: per pixel, the mean S0 of the occluder surfaces its samples meet
+  // (unpolarized, added to S0 of every frame before DoLP and AoLP). Empty otherwise.
+  std::vector<float> surface_s0_;
 };
 
 }  // namespace skypol::render
