@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "render/occluders_embree.h"
+#include "render/preview.h"
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
 #include "render/stack_io.h"
@@ -36,12 +38,16 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
   std::vector<std::string> written = channel_names(ro);
   const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
   if (keep_raw) written.emplace_back("raw");
-  // A sensor measures S0, S1, S2 whatever the file keeps; what it does not keep is dropped after.
-  if (scene.sensor) {
-    for (const char* s : {"S0", "S1", "S2"}) {
-      if (std::find(ro.channels.begin(), ro.channels.end(), s) == ro.channels.end()) ro.channels.emplace_back(s);
-    }
+  // A sensor measures S0, S1, S2 whatever the file keeps, and previews show them with the mask;
+  // the writer writes only what the file keeps.
+  std::vector<const char*> needed;
+  if (scene.sensor || scene.output.previews) needed = {"S0", "S1", "S2"};
+  if (scene.output.previews) needed.push_back("mask");
+  for (const char* s : needed) {
+    if (std::find(ro.channels.begin(), ro.channels.end(), s) == ro.channels.end()) ro.channels.emplace_back(s);
   }
+  std::optional<PreviewFolder> previews;
+  if (scene.output.previews) previews.emplace(preview_folder_for(out_path));
   const Renderer renderer(cam, ro, make_occluders(scene.occluders));  // null without occluders
   Frame f = renderer.new_frame();  // refilled for every part: pixel memory is allocated once per stack
   report.setup_seconds = since(t_setup);
@@ -62,16 +68,15 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
     if (progress && i > 0) progress(i, truths.size());
     const auto t0 = Clock::now();
     renderer.render(*sky, truths[i].sun, f);
-    if (scene.sensor) {
-      apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
-      std::erase_if(f.channels, [&](const auto& c) {
-        return std::find(written.begin(), written.end(), c.first) == written.end();
-      });
-    }
+    if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
     render_s += since(t0);
     f.truth = truths[i];
+    if (previews) previews->add(i, f, *cam, scene.render.bands.front());
+    // The writer reads only the channels the file keeps; the others (what a sensor or the previews
+    // needed) stay in the frame, whose memory the next part reuses.
     return f;
   });
+  if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());
   report.render_seconds = render_s;
   report.write_seconds = since(t_total) - render_s;

@@ -233,6 +233,7 @@ Scene scene_from_source(const SceneSource& source) {
     }
     scene.output.half = o->choice("pixel_type", "float", {"float", "half"}) == "half";
     scene.output.compression = o->choice("compression", "zip", {"none", "zip", "zips", "piz", "rle", "pxr24", "b44", "dwaa"});
+    scene.output.previews = o->boolean("previews", false);
     o->finish();
   }
   top.finish();

@@ -53,6 +53,7 @@ struct OutputSpec {
   std::vector<std::string> channels{"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
   bool half = false;                   // pixel type: float32 (default) or half
   std::string compression = "zip";
+  bool previews = false;               // PNG previews next to the stack (render/preview.h)
 };
 
 struct Scene {
