@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_lens(app);
   skypol::cli::add_bench(app);
   skypol::cli::add_sweep(app);
+  skypol::cli::add_bench_occluders(app);
   skypol::cli::add_preview(app);
   try {
     app.parse(argc, argv);
