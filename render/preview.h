@@ -3,7 +3,7 @@
 //   S0    tone-mapped: S0 / (99th percentile of the sky's S0), sRGB-encoded grey;
 //   DoLP  perceptual colour map (render/colormap.h) over [0, 1];
 //   AoLP  cyclic colour map over (−90°, 90°].
-// Occluded pixels (mask 0) are hatched in two greys, pixels outside the image circle are black,
+// Occluded pixels (mask 0) are hatched in grey and brown, pixels outside the image circle are black,
 // and a legend says so. Panels sample every k-th pixel (nearest, no averaging: AoLP is cyclic) so
 // that neither side exceeds max_panel_px.
 #pragma once

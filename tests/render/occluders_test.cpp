@@ -473,3 +473,32 @@ TEST_CASE("bad [occluders] input is an error naming the file, line and key", "[o
   // [output] previews is a boolean.
   CHECK(error_of(head + "[output]\npreviews = \"yes\"\n").find("output.previews") != std::string::npos);
 }
+
+TEST_CASE("hard cases with occluders: every value finite, the nadir blocked, the zenith free", "[occluders][hard]") {
+  OccluderSpec spec;
+  spec.horizon = {{0, -5}, {90, 30}, {180, 0}, {270, 85}};
+  spec.boxes = {{Eigen::Vector3d(0, 8, 0), Eigen::Vector3d(4, 4, 30), 45}};
+  spec.observer_height_m = 1.6;
+  for (auto rule : {render::OccludedPixels::masked, render::OccludedPixels::shaded}) {
+    spec.occluded_pixels = rule;
+    const auto occ = render::make_occluders(spec);
+    for (double tilt : {0.0, 90.0, 180.0}) {  // zenith, level, nadir: the floor's centre vertex
+      for (int spp : {1, 3}) {
+        render::RenderOptions o;
+        o.spp = spp;
+        o.channels = {"S0", "S1", "S2", "S3", "DoLP", "AoLP", "mask"};
+        const auto cam = fisheye(40, 40, 0, tilt);
+        const render::Renderer r(cam, o, occ);
+        for (const sky::Sun& sun : {sun_at(0, 90), sun_at(10, -10), sun_at(300, 0)}) {
+          const render::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun);
+          for (const auto& [name, values] : f.channels) {
+            for (float v : values) REQUIRE(std::isfinite(v));
+          }
+          const float centre = f.channel("mask")[static_cast<std::size_t>(20 * 40 + 20)];
+          if (tilt == 180.0) CHECK(centre == 0.0f);  // looking straight down: the floor
+          if (tilt == 0.0) CHECK(centre == 1.0f);    // straight up: the sky
+        }
+      }
+    }
+  }
+}
