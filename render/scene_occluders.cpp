@@ -92,10 +92,9 @@ OccluderSpec read_occluders(Fields& f) {
   for (Fields& m : f.tables("mesh")) spec.meshes.push_back(read_mesh(m));
   spec.occluded_pixels =
       f.choice("occluded_pixels", "masked", {"masked", "shaded"}) == "shaded" ? OccludedPixels::shaded : OccludedPixels::masked;
+  // Read (and checked) whatever the rule: a scene that sets it may be rendered with
+  // --set occluders.occluded_pixels=masked, and an override cannot remove a key.
   spec.surface_albedo = f.number("surface_albedo", spec.surface_albedo, 0, 1);
-  if (f.has("surface_albedo") && spec.occluded_pixels != OccludedPixels::shaded) {
-    f.fail("surface_albedo", "applies only with occluded_pixels = \"shaded\"");
-  }
   f.finish();
   if (spec.empty()) f.fail("horizon", "the section names no occluders: give 'horizon', [[occluders.box]] or [[occluders.mesh]] (or drop the section)");
   return spec;

@@ -133,15 +133,8 @@ sky::Sun sun_at(double az_deg, double el_deg) {
   return s;
 }
 
-// A scene file of the repository read with 8×8 binning (306×256 px), paths still relative to it.
-render::Scene small_scene(const std::string& rel) {
-  std::ifstream in(source(rel));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto at = text.find("[camera]\n");
-  REQUIRE(at != std::string::npos);
-  text.insert(at + 9, "binning = 8\n");
-  return render::parse_scene(text, source(rel));
-}
+// A scene file of the repository read with 8×8 binning (306×256 px).
+render::Scene small_scene(const std::string& rel) { return render::load_scene(source(rel), {{"camera.binning", "8"}}); }
 
 void write_file(const std::filesystem::path& p, const std::string& text) {
   std::ofstream(p) << text;
@@ -458,7 +451,6 @@ TEST_CASE("bad [occluders] input is an error naming the file, line and key", "[o
       {"[[occluders.mesh]]\npath = \"" + d + "/nan.obj\"\n", "is not finite"},
       {"[[occluders.mesh]]\npath = \"" + d + "/empty.obj\"\nup_axis = \"x\"\n", "occluders.mesh[0].up_axis'"},
       {"horizon = [[0, 5]]\noccluded_pixels = \"grey\"\n", "'masked', 'shaded'"},
-      {"horizon = [[0, 5]]\nsurface_albedo = 0.3\n", "applies only with occluded_pixels = \"shaded\""},
       {"horizon = [[0, 5]]\nsurface_albedo = 2\noccluded_pixels = \"shaded\"\n", "occluders.surface_albedo'"},
       {"horizon = [[0, 5]]\nbox = 3\n", "expected an array of tables"},
   };

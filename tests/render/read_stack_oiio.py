@@ -10,7 +10,6 @@ usage: read_stack_oiio.py SKYPOL_BINARY SCENE.toml SCRATCH_DIR
 """
 import math
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -22,18 +21,9 @@ skypol, scene_path, scratch = sys.argv[1:4]
 shutil.rmtree(scratch, ignore_errors=True)
 os.makedirs(scratch)
 
-# The scene, smaller, with its mesh path made absolute and the stack written into the scratch folder.
-with open(scene_path) as f:
-    text = f.read()
-scene_dir = os.path.dirname(os.path.abspath(scene_path))
-text = text.replace("[camera]\n", "[camera]\nbinning = 8\n", 1)
-text = re.sub(r'path = "meshes/', f'path = "{scene_dir}/meshes/', text)
-text = re.sub(r'path = "out/[^"]*"', f'path = "{scratch}/urban.exr"', text)
-small = os.path.join(scratch, "urban-small.toml")
-with open(small, "w") as f:
-    f.write(text)
-subprocess.run([skypol, "render", small, "-q"], check=True)
+# The scene, smaller, written into the scratch folder (its previews beside it).
 stack = os.path.join(scratch, "urban.exr")
+subprocess.run([skypol, "render", scene_path, "-q", "--set", "camera.binning=8", "-o", stack], check=True)
 
 failures = []
 
