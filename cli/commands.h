@@ -14,6 +14,7 @@ void add_evaluate(CLI::App& app);
 void add_lens(CLI::App& app);
 void add_bench(CLI::App& app);
 void add_sweep(CLI::App& app);
+void add_reproduce(CLI::App& app);  // the papers in simulation (cli/reproduce.h)
 
 // Progress on stderr, only when stderr is a terminal and not --quiet.
 struct Progress {

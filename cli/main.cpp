@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_lens(app);
   skypol::cli::add_bench(app);
   skypol::cli::add_sweep(app);
+  skypol::cli::add_reproduce(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
