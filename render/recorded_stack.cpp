@@ -5,8 +5,8 @@
 
 #include "camera/camera.h"
 #include "camera/orientation.h"
-#include "render/polarization_math.h"
 #include "render/renderer.h"
+#include "render/sensor_stage.h"
 #include "render/truth.h"
 
 namespace skypol::render {
@@ -41,9 +41,9 @@ Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>&
   return stack;
 }
 
-Stack apply_sensor(const Stack& ideal, camera::DofpSensor sensor) {
+Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor) {
   if (sensor.color_filter != camera::ColorFilter::none)
-    throw std::invalid_argument("apply_sensor: colour sensors are not supported here");
+    throw std::invalid_argument("through_sensor: colour sensors are not supported here");
   Stack out;
   out.camera = ideal.camera;
   out.bands = ideal.bands;
@@ -51,9 +51,11 @@ Stack apply_sensor(const Stack& ideal, camera::DofpSensor sensor) {
   out.scene_text = ideal.scene_text;
   if (ideal.frames.empty()) return out;
   const int w = ideal.frames.front().width, h = ideal.frames.front().height;
-  sensor.width = w;
-  sensor.height = h;
-  camera::validate(sensor);
+  SensorSpec spec;
+  spec.dofp = sensor;
+  spec.dofp.width = w;
+  spec.dofp.height = h;
+  camera::validate(spec.dofp);
   const std::string& b = ideal.bands.front();
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
 
@@ -73,22 +75,16 @@ Stack apply_sensor(const Stack& ideal, camera::DofpSensor sensor) {
 
   for (std::size_t i = 0; i < ideal.frames.size(); ++i) {
     const Frame& f = ideal.frames[i];
-    const auto raw = camera::simulate_raw(sensor, f.channel("S0." + b), f.channel("S1." + b),
-                                          f.channel("S2." + b), i);
-    const camera::StokesPlanes st = camera::demosaic_bilinear(sensor, raw);
     Frame g;
     g.width = w;
     g.height = h;
     g.truth = f.truth;
-    std::vector<float> dolp(n, 0.0f), aolp(n, 0.0f);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (mask[k] <= 0) continue;
-      dolp[k] = dolp_of(st.s0[k], st.s1[k], st.s2[k]);
-      aolp[k] = aolp_of(st.s1[k], st.s2[k]);
-    }
-    g.channels["DoLP." + b] = std::move(dolp);
-    g.channels["AoLP." + b] = std::move(aolp);
+    for (const std::string& c : sensor_inputs({b})) g.channels[c] = f.channel(c);
+    g.channels["DoLP." + b].assign(n, 0.0f);
+    g.channels["AoLP." + b].assign(n, 0.0f);
     g.channels["mask"] = mask;
+    apply_sensor(spec, {b}, i, g);
+    for (const std::string& c : sensor_inputs({b})) g.channels.erase(c);
     out.frames.push_back(std::move(g));
   }
   return out;

@@ -34,12 +34,13 @@ struct RecordingSetup {
 // for a missing lens or an invalid sky spec.
 Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times);
 
-// The stack a DoFP camera delivers: each frame's S0–S2 through simulate_raw (frame index i, the
-// sensor's seed) and demosaic_bilinear (nominal), DoLP and AoLP from the demosaiced Stokes images
-// (render/polarization_math.h rules), and a mask eroded by one pixel (the demosaic reads the
-// 3×3 neighbourhood: a pixel next to the image circle's edge mixes in dark pixels). Only DoLP,
-// AoLP and mask are kept. The sensor's width and height are set to the stack's. Mono sensors
-// only; throws std::invalid_argument for a colour sensor or frames without S0–S2.
-Stack apply_sensor(const Stack& ideal, camera::DofpSensor sensor);
+// The stack a DoFP camera delivers: each frame's S0–S2 through the scene sensor stage
+// (render/sensor_stage.h: simulate_raw with frame index i and the sensor's seed, the nominal
+// bilinear demosaic, DoLP and AoLP recomputed), with the mask eroded by one pixel: the demosaic
+// reads the 3×3 neighbourhood, so a pixel next to the image circle's edge mixes in the dark
+// pixels beyond it and its DoLP is wrong. Only DoLP, AoLP and mask are kept. The sensor's width
+// and height are set to the stack's. Mono sensors only; throws std::invalid_argument for a colour
+// sensor or frames without S0–S2.
+Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor);
 
 }  // namespace skypol::render

@@ -53,7 +53,7 @@ TEST_CASE("a noise-free DoFP sensor returns the renderer's DoLP and AoLP", "[ren
   s.full_well_e = 1e9;
   s.gain_dn_per_e = 1;
   s.electrons_per_radiance_s = 3e7;  // ≈ 30000 DN at radiance 1: quantization ≪ 1e-3
-  const render::Stack got = render::apply_sensor(ideal, s);
+  const render::Stack got = render::through_sensor(ideal, s);
   const auto& d0 = ideal.frames[0].channel("DoLP.Y");
   const auto& a0 = ideal.frames[0].channel("AoLP.Y");
   const auto& d1 = got.frames[0].channel("DoLP.Y");
