@@ -25,7 +25,12 @@ std::string write_text(const std::string& dir, const std::string& name, const st
       throw std::runtime_error("cannot write " + path.string());
     }
   }
-  std::filesystem::rename(tmp, path);
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
+  }
   return path.string();
 }
 
@@ -52,11 +57,20 @@ void add_reproduce(CLI::App& app) {
   cmd->add_option("--scene", a->options.scene, "The SkyPole set-up (site, day, times, camera)");
   cmd->add_flag("-q,--quiet", a->options.quiet, "No progress on stderr");
   cmd->callback([a] {
-    std::filesystem::create_directories(a->options.out_dir);
+    std::error_code ec;
+    std::filesystem::create_directories(a->options.out_dir, ec);
+    if (ec || !std::filesystem::is_directory(a->options.out_dir))
+      throw std::invalid_argument("reproduce: cannot create the output folder " + a->options.out_dir +
+                                  (ec ? ": " + ec.message() : std::string()));
     const auto t0 = std::chrono::steady_clock::now();
-    if (a->which == "sun2019" || a->which == "all") reproduce_sun2019(a->options);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (a->which == "skypole" || a->which == "all") reproduce_skypole(a->options);
+    auto t1 = t0;
+    try {
+      if (a->which == "sun2019" || a->which == "all") reproduce_sun2019(a->options);
+      t1 = std::chrono::steady_clock::now();
+      if (a->which == "skypole" || a->which == "all") reproduce_skypole(a->options);
+    } catch (const std::runtime_error& e) {  // I/O (filesystem_error too): the user can fix it
+      throw std::invalid_argument(std::string("reproduce: ") + e.what());
+    }
     const auto t2 = std::chrono::steady_clock::now();
     std::printf("reproduce: sun2019 %.1f s, skypole %.1f s, into %s\n",
                 std::chrono::duration<double>(t1 - t0).count(),
