@@ -55,6 +55,8 @@ void add_reproduce(CLI::App& app) {
   cmd->add_option("-o,--out", a->options.out_dir, "Folder for the CSV and EXR files")->required();
   cmd->add_flag("--small", a->options.small, "Reduced run (coarse grids), as the tests use");
   cmd->add_option("--scene", a->options.scene, "The SkyPole set-up (site, day, times, camera)");
+  cmd->add_option("--sun2019-scene", a->options.sun2019_scene,
+                  "Sun et al.'s set-up (site, atmosphere, the times of their Table 1)");
   cmd->add_flag("-q,--quiet", a->options.quiet, "No progress on stderr");
   cmd->callback([a] {
     std::error_code ec;

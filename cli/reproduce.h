@@ -11,6 +11,7 @@ struct ReproduceOptions {
   std::string out_dir;
   bool small = false;  // the reduced run the tests use: coarse grids, same quantities
   std::string scene = "scenes/skypole-marseille.toml";  // the SkyPole set-up
+  std::string sun2019_scene = "scenes/sun2019-hefei.toml";  // Sun et al.'s site, atmosphere, times
   bool quiet = false;
 };
 

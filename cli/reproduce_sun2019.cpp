@@ -3,7 +3,7 @@
 //                              imaging modes at solar elevation 0°, and each mode minus the vertical
 //                              projection: channels dop.M, aop.M, ddop.M, daop.M, inside
 //                              (M = equidistant, equisolid, stereographic, orthographic)
-//   sun2019_sun_positions.csv  their Table 1 times: the paper's solar elevation beside ERFA's
+//   sun2019_sun_positions.csv  the sun at their Table 1 times (scenes/sun2019-hefei.toml), from ERFA
 //   sun2019_epsilon.csv        ε of every mode (as the camera) against the vertical projection
 //                              (as the model), and of an equidistant camera against every model,
 //                              140° full circle (Tables 1, 3) and 100° anti-sun half (Tables 2, 4),
@@ -22,6 +22,7 @@
 #include "cli/reproduce.h"
 #include "render/image_exr.h"
 #include "render/imaging_modes.h"
+#include "render/scene.h"
 #include "sky/rayleigh.h"
 #include "sky/sun.h"
 #include "sky/time.h"
@@ -36,27 +37,27 @@ using camera::Mapping;
 constexpr std::array<Mapping, 4> kModes = {Mapping::equidistant, Mapping::equisolid,
                                            Mapping::stereographic, Mapping::orthographic};
 
-// Hefei University of Technology, 31°50'49"N 117°17'43"E, 26 March 2018 (their §3), local time
-// UTC+8, and the solar elevations their Table 1 lists (from NREL's SPA).
-const sky::Site kHefei{31.0 + 50.0 / 60 + 49.0 / 3600, 117.0 + 17.0 / 60 + 43.0 / 3600, 0};
-struct TableTime {
-  const char* local;
-  double paper_elevation_deg;
+// The paper's site, atmosphere (for the sun's refraction, as their SPA) and the six times of their
+// Table 1 come from the scene (scenes/sun2019-hefei.toml).
+struct Setup {
+  sky::Site site;
+  sky::SunOptions sun_options;
+  std::vector<sky::Instant> times;
 };
-constexpr std::array<TableTime, 6> kTable1 = {{{"08:30", 29.10},
-                                               {"10:00", 46.24},
-                                               {"11:05", 55.86},
-                                               {"14:28", 47.17},
-                                               {"15:38", 34.21},
-                                               {"17:00", 17.43}}};
+
+Setup load(const ReproduceOptions& o) {
+  const render::Scene scene = render::load_scene(o.sun2019_scene);
+  if (scene.times.empty()) throw std::invalid_argument(o.sun2019_scene + ": no times");
+  return {scene.site, scene.sun_options, scene.times};
+}
 
 std::string name(Mapping m) { return std::string(camera::mapping_name(m)); }
 
-void fig7(const ReproduceOptions& o) {
+void fig7(const ReproduceOptions& o, const Setup& setup) {
   const int size = o.small ? 101 : 401;
   // The paper's φs = 90° is counted from East towards North in the frame of its eqs. 3 and 9–21
   // (tests/sky/fisheye_forms_test.cpp): the sun on the horizon due North, skypol azimuth 0°.
-  const sky::Sun sun = sky::sun_from_horizontal(0.0, 0.0, kHefei.latitude_deg);
+  const sky::Sun sun = sky::sun_from_horizontal(0.0, 0.0, setup.site.latitude_deg);
   const sky::RayleighSky sky_model;  // Pmax = 1, the paper's theoretical value
   std::map<Mapping, render::ModeImage> img;
   for (Mapping m : kModes) img[m] = render::render_mode(m, size, 180.0, sky_model, sun);
@@ -75,20 +76,16 @@ void fig7(const ReproduceOptions& o) {
                           "180 deg field of view; image top = North, right = West (seen from below)");
 }
 
-void epsilon_tables(const ReproduceOptions& o) {
+void epsilon_tables(const ReproduceOptions& o, const Setup& setup) {
   const int size = o.small ? 201 : 1001;
-  sky::SunOptions refraction;  // as NREL's SPA, which the paper used: standard atmosphere
-  refraction.pressure_hpa = 1013.25;
-  refraction.temperature_c = 15;
   const sky::RayleighSky sky_model;
   std::ostringstream pos, eps;
-  pos << "time_local,time_utc,paper_elevation_deg,elevation_deg,azimuth_deg\n";
-  eps << "time_local,paper_elevation_deg,normalization,fov_deg,region,camera,model,epsilon_pct,pixels\n";
-  for (const TableTime& t : kTable1) {
-    const sky::Instant when = sky::parse_iso8601(std::string("2018-03-26T") + t.local + ":00+08:00");
-    const sky::Sun sun = sky::sun_position(kHefei, when, refraction);
-    pos << t.local << ',' << sky::format_iso8601(when) << ',' << csv_num(t.paper_elevation_deg) << ','
-        << csv_num(sun.elevation / kDeg) << ',' << csv_num(sun.azimuth / kDeg) << '\n';
+  pos << "time_utc,elevation_deg,azimuth_deg\n";
+  eps << "time_utc,normalization,fov_deg,region,camera,model,epsilon_pct,pixels\n";
+  for (const sky::Instant when : setup.times) {
+    const sky::Sun sun = sky::sun_position(setup.site, when, setup.sun_options);
+    const std::string utc = sky::format_iso8601(when);
+    pos << utc << ',' << csv_num(sun.elevation / kDeg) << ',' << csv_num(sun.azimuth / kDeg) << '\n';
     // Two ways to put the modes on one grid: the 140° field-of-view edge on the image circle of
     // every mode (a camera of that mapping filling the same sensor circle), or the horizon on the
     // unit circle as the paper's eqs. 10, 14, 18 normalise (the 140° view then a disk that differs
@@ -111,7 +108,7 @@ void epsilon_tables(const ReproduceOptions& o) {
       for (const Case& c : cases)
         for (const auto& [cam, model] : pairs) {
           const render::Similarity s = render::similarity(img[cam], img[model], sun, c.r);
-          eps << t.local << ',' << csv_num(t.paper_elevation_deg) << ',' << norm << ','
+          eps << utc << ',' << norm << ','
               << csv_num(c.fov) << ',' << c.region << ',' << name(cam) << ',' << name(model) << ','
               << csv_num(100 * s.epsilon) << ',' << s.pixels << '\n';
         }
@@ -150,8 +147,9 @@ void magnification_table(const ReproduceOptions& o) {
 }  // namespace
 
 void reproduce_sun2019(const ReproduceOptions& o) {
-  fig7(o);
-  epsilon_tables(o);
+  const Setup setup = load(o);
+  fig7(o, setup);
+  epsilon_tables(o, setup);
   magnification_table(o);
   if (!o.quiet) std::fprintf(stderr, "sun2019: Fig. 7, epsilon tables, magnifications written\n");
 }

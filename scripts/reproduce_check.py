@@ -14,6 +14,7 @@ def check(r, g, report, figdir):
             fails.append(what)
 
     # Sun et al.: ERFA against the paper's SPA elevations (refraction on, as SPA): within 0.05°.
+    need(sorted(p["time_local"] for p in r["positions"]) == sorted(g["SUN_T1"]), "sun2019: not the times of Table 1")
     for p in r["positions"]:
         d = abs(float(p["elevation_deg"]) - float(p["paper_elevation_deg"]))
         need(d < 0.05, f"sun elevation at {p['time_local']}: ERFA {p['elevation_deg']} vs paper {p['paper_elevation_deg']}")

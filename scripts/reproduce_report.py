@@ -78,10 +78,11 @@ def render(r, g):
         "2 sin(θ/2) bends the least from sin θ among the three), stereographic the farthest.\n")
 
     add("### Sun positions of their Table 1\n")
-    rows = [[p["time_local"], p["time_utc"][11:16], fmt(float(p["paper_elevation_deg"]), 2),
+    rows = [[p["time_local"], p["time_utc"][11:16], fmt(p["paper_elevation_deg"], 2),
              fmt(float(p["elevation_deg"]), 2), fmt(float(p["azimuth_deg"]), 2)] for p in r["positions"]]
-    add("Hefei (31°50′49″N, 117°17′43″E), 26 March 2018, local time UTC+8. skypol's sun (ERFA, with refraction "
-        "for 1013.25 hPa and 15 °C, as NREL's SPA that they used) against the elevations they list:\n")
+    add("`scenes/sun2019-hefei.toml`: Hefei (31°50′49″N, 117°17′43″E), 26 March 2018, local time UTC+8. skypol's "
+        "sun (ERFA, with refraction for 1013.25 hPa and 15 °C, as NREL's SPA that they used) against the elevations "
+        "they list:\n")
     add(table(["local time", "UTC", "paper elevation (°)", "skypol elevation (°)", "skypol azimuth (°)"], rows))
     add("")
 
