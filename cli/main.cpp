@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_sweep(app);
   skypol::cli::add_bench_occluders(app);
   skypol::cli::add_preview(app);
+  skypol::cli::add_reproduce(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

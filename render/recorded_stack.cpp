@@ -1,0 +1,93 @@
+// Stacks recorded in memory, ideal or through a DoFP sensor (recorded_stack.h).
+#include "render/recorded_stack.h"
+
+#include <stdexcept>
+
+#include "camera/camera.h"
+#include "camera/orientation.h"
+#include "render/renderer.h"
+#include "render/sensor_stage.h"
+#include "render/truth.h"
+
+namespace skypol::render {
+
+Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times) {
+  if (!setup.lens) throw std::invalid_argument("record_stack: no lens");
+  const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(setup.sky);
+  auto cam = std::make_shared<camera::Camera>(
+      setup.lens,
+      camera::world_from_heading_tilt_roll(setup.heading_deg, setup.tilt_deg, setup.roll_deg));
+  // make_truth reads the site, the sun options and the orientation angles from a scene.
+  Scene scene;
+  scene.site = setup.site;
+  scene.sun_options = setup.sun_options;
+  scene.camera.heading_deg = setup.heading_deg;
+  scene.camera.tilt_deg = setup.tilt_deg;
+  scene.camera.roll_deg = setup.roll_deg;
+
+  RenderOptions options;
+  options.bands = {setup.band};
+  options.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  const Renderer renderer(cam, options);
+  Stack stack;
+  stack.camera = cam;
+  stack.bands = {setup.band};
+  for (const sky::Instant t : times) {
+    const Truth truth = make_truth(scene, *cam, t);
+    Frame f = renderer.render(*sky_model, truth.sun);
+    f.truth = truth;
+    stack.frames.push_back(std::move(f));
+  }
+  return stack;
+}
+
+Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor) {
+  if (sensor.color_filter != camera::ColorFilter::none)
+    throw std::invalid_argument("through_sensor: colour sensors are not supported here");
+  Stack out;
+  out.camera = ideal.camera;
+  out.bands = ideal.bands;
+  out.camera_description = ideal.camera_description;
+  out.scene_text = ideal.scene_text;
+  if (ideal.frames.empty()) return out;
+  const int w = ideal.frames.front().width, h = ideal.frames.front().height;
+  SensorSpec spec;
+  spec.dofp = sensor;
+  spec.dofp.width = w;
+  spec.dofp.height = h;
+  camera::validate(spec.dofp);
+  const std::string& b = ideal.bands.front();
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+
+  // The usable mask: every pixel of the 3×3 neighbourhood sees sky.
+  const std::vector<float>& mask0 = ideal.frames.front().channel("mask");
+  std::vector<float> mask(n, 0.0f);
+  for (int y = 1; y + 1 < h; ++y)
+    for (int x = 1; x + 1 < w; ++x) {
+      bool all = true;
+      for (int dy = -1; dy <= 1 && all; ++dy)
+        for (int dx = -1; dx <= 1 && all; ++dx)
+          all = mask0[static_cast<std::size_t>(y + dy) * static_cast<std::size_t>(w) +
+                      static_cast<std::size_t>(x + dx)] > 0;
+      mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+          all ? 1.0f : 0.0f;
+    }
+
+  for (std::size_t i = 0; i < ideal.frames.size(); ++i) {
+    const Frame& f = ideal.frames[i];
+    Frame g;
+    g.width = w;
+    g.height = h;
+    g.truth = f.truth;
+    for (const std::string& c : sensor_inputs({b})) g.channels[c] = f.channel(c);
+    g.channels["DoLP." + b].assign(n, 0.0f);
+    g.channels["AoLP." + b].assign(n, 0.0f);
+    g.channels["mask"] = mask;
+    apply_sensor(spec, {b}, i, g);
+    for (const std::string& c : sensor_inputs({b})) g.channels.erase(c);
+    out.frames.push_back(std::move(g));
+  }
+  return out;
+}
+
+}  // namespace skypol::render
