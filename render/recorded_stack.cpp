@@ -59,19 +59,8 @@ Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor) {
   const std::string& b = ideal.bands.front();
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
 
-  // The usable mask: every pixel of the 3×3 neighbourhood sees sky.
-  const std::vector<float>& mask0 = ideal.frames.front().channel("mask");
-  std::vector<float> mask(n, 0.0f);
-  for (int y = 1; y + 1 < h; ++y)
-    for (int x = 1; x + 1 < w; ++x) {
-      bool all = true;
-      for (int dy = -1; dy <= 1 && all; ++dy)
-        for (int dx = -1; dx <= 1 && all; ++dx)
-          all = mask0[static_cast<std::size_t>(y + dy) * static_cast<std::size_t>(w) +
-                      static_cast<std::size_t>(x + dx)] > 0;
-      mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
-          all ? 1.0f : 0.0f;
-    }
+  // apply_sensor erodes the mask by one pixel (the demosaic's reach), so the ideal mask goes in.
+  const std::vector<float>& mask = ideal.frames.front().channel("mask");
 
   for (std::size_t i = 0; i < ideal.frames.size(); ++i) {
     const Frame& f = ideal.frames[i];

@@ -1,5 +1,6 @@
 #include "render/sensor_stage.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "render/polarization_math.h"
@@ -30,6 +31,22 @@ void finish_band(const std::string& band, const std::vector<float>* mask, camera
   frame.channel("S2." + band) = std::move(measured.s2);
 }
 
+void erode_mask(std::vector<float>& mask, int w, int h) {
+  const std::vector<float> before = mask;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      bool whole = true;
+      for (int dy = -1; dy <= 1 && whole; ++dy) {
+        for (int dx = -1; dx <= 1 && whole; ++dx) {
+          const int yy = std::clamp(y + dy, 0, h - 1), xx = std::clamp(x + dx, 0, w - 1);
+          whole = before[static_cast<std::size_t>(yy * w + xx)] > 0.0f;
+        }
+      }
+      if (!whole) mask[static_cast<std::size_t>(y * w + x)] = 0.0f;
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
@@ -46,7 +63,10 @@ void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& band
   if (frame.width != d.width || frame.height != d.height) {
     throw std::invalid_argument("sensor: the frame's size differs from the sensor's");
   }
-  const std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;
+  // The bilinear demosaic reads each pixel's 3×3 neighbourhood: a pixel next to one that sees no
+  // sky mixes in darkness, so it is masked too (the mask is eroded by one pixel).
+  std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;
+  if (mask) erode_mask(*mask, frame.width, frame.height);
   if (d.color_filter == camera::ColorFilter::none) {
     if (bands.size() != 1) throw std::invalid_argument("sensor: a mono sensor records one band");
     const std::string& b = bands[0];

@@ -3,7 +3,8 @@
 // full well, ADC) and back through the demosaic, as a real polarization camera's pipeline gives
 // them. DoLP and AoLP are then recomputed from the measured Stokes with the usual rules
 // (render/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
-// zeros, as without a sensor. Run only when the scene has a [sensor] section.
+// zeros, as without a sensor; so do their 8 neighbours, whose demosaic mixed in those dark pixels
+// (the mask is eroded by one pixel). Run only when the scene has a [sensor] section.
 #pragma once
 
 #include <cstdint>

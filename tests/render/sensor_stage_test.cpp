@@ -78,11 +78,13 @@ TEST_CASE("shot noise averages out, is keyed by the frame index, and spares mask
   CHECK(mean_inner(a.channel("DoLP.Y"), 64, 64) == Approx(std::hypot(0.2, 0.1)).margin(3e-3));
   CHECK(mean_inner(a.channel("AoLP.Y"), 64, 64) == Approx(0.5 * std::atan2(0.1, -0.2)).margin(5e-3));
   const auto& da = a.channel("DoLP.Y");
-  CHECK(std::vector<float>(da.begin() + 64, da.end()) ==
-        std::vector<float>(b.channel("DoLP.Y").begin() + 64, b.channel("DoLP.Y").end()));
+  CHECK(std::vector<float>(da.begin() + 128, da.end()) ==
+        std::vector<float>(b.channel("DoLP.Y").begin() + 128, b.channel("DoLP.Y").end()));
   CHECK(c.channel("DoLP.Y") != b.channel("DoLP.Y"));
-  for (int i = 0; i < 64; ++i) {
+  for (int i = 0; i < 128; ++i) {  // the occluded row and, eroded, the row below it
     CHECK(a.channel("S0.Y")[static_cast<std::size_t>(i)] == 0.0f);
     CHECK(da[static_cast<std::size_t>(i)] == 0.0f);
+    CHECK(a.channel("mask")[static_cast<std::size_t>(i)] == 0.0f);
   }
+  CHECK(a.channel("mask")[128] == 1.0f);
 }
