@@ -1,0 +1,92 @@
+// Study 4: sensor noise. The paper's day (06:00–17:00 UTC, hourly) at 4×4 binning through the IMX250MZR-like DoFP sensor
+// (cli/tradeoff_setup.h) at exposures from 30 µs (few electrons: shot and read noise) to 4 ms
+// (the bright sky near the sun clips at the full well), plus the noise-free stack; three headings.
+// Beside every estimator's error: the noon frame's DoLP error (RMS against the noise-free DoLP over
+// the sky pixels: noise, demosaic error and the polarizers' finite extinction together) and the
+// fraction of its sky pixels that clip.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "camera/dofp_sensor.h"
+#include "cli/tradeoff_scoring.h"
+#include "cli/tradeoff_setup.h"
+#include "cli/tradeoff_studies.h"
+
+namespace skypol::cli::tradeoff {
+namespace {
+
+struct FrameNoise {
+  double dolp_rms = 0;  // RMS of DoLP after the sensor − noise-free DoLP
+  double clipped = 0;  // fraction of sky pixels at the ADC's or the well's top
+};
+
+// The noise of frame `index` against its noise-free twin (same size, same truth).
+FrameNoise frame_noise(const camera::DofpSensor& sensor, const render::Frame& clean, std::size_t index) {
+  const auto raw = camera::simulate_raw(sensor, clean.channel("S0.Y"), clean.channel("S1.Y"),
+                                        clean.channel("S2.Y"), index);
+  const auto top = static_cast<std::uint16_t>(
+      std::min((1 << sensor.adc_bits) - 1.0, std::floor(sensor.black_level_dn + sensor.full_well_e * sensor.gain_dn_per_e)));
+  const camera::StokesPlanes p = camera::demosaic_bilinear(sensor, raw);
+  const auto& mask = clean.channel("mask");
+  const auto& dolp = clean.channel("DoLP.Y");
+  double ss = 0;
+  int n = 0, clipped = 0;
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (mask[i] < 1) continue;
+    const double s0 = p.s0[i], s1 = p.s1[i], s2 = p.s2[i];
+    const double d = std::sqrt(s1 * s1 + s2 * s2) / std::max(1e-30, s0) - static_cast<double>(dolp[i]);
+    ss += d * d;
+    clipped += raw[i] >= top;
+    ++n;
+  }
+  return {n ? std::sqrt(ss / n) : 0, n ? static_cast<double>(clipped) / n : 0};
+}
+
+}  // namespace
+
+void study_noise(const StudyOptions& o) {
+  const int b = o.small ? 16 : 4;
+  const std::vector<double> exposures =
+      o.small ? std::vector<double>{100, 1000, 4000} : std::vector<double>{30, 100, 300, 1000, 1500, 2000, 4000};
+  const std::vector<double> headings = o.small ? std::vector<double>{15} : std::vector<double>{15, 140, 260};
+  const std::vector<sky::Instant> times =
+      o.small ? times_over("2022-09-23T12:00:00Z", 480, 5) : times_over("2022-09-23T11:30:00Z", 660, 12);
+  const double default_exposure_us = 1000;
+  Table t(with_score_columns({"exposure_us", "noise", "binning", "width", "height", "frames", "heading_deg",
+                              "dolp_error_rms", "clipped_fraction", "is_default"}));
+  int seed = 1;
+  for (const double heading : headings) {
+    StackRecipe clean_recipe;
+    clean_recipe.binning = b;
+    clean_recipe.heading_deg = heading;
+    clean_recipe.times = times;
+    clean_recipe.sky.max_dolp = 0.7;
+    clean_recipe.keep_stokes = true;
+    const render::Stack clean = render_stack(clean_recipe);
+    const std::size_t noon = times.size() / 2;
+    score_every_method(clean, t, [&](Table& row) {
+      row.set("noise", "none").set("binning", b).set("width", clean.camera->width())
+          .set("height", clean.camera->height()).set("frames", static_cast<int>(times.size()))
+          .set("heading_deg", heading).set("dolp_error_rms", 0.0).set("clipped_fraction", 0.0)
+          .set("is_default", false);
+    });
+    for (const double exposure : exposures) {
+      StackRecipe r = clean_recipe;
+      r.keep_stokes = false;
+      r.sensor = paper_sensor(b, exposure, static_cast<std::uint64_t>(seed++));
+      const render::Stack stack = render_stack(r);
+      const FrameNoise fn = frame_noise(*r.sensor, clean.frames[noon], noon);
+      score_every_method(stack, t, [&](Table& row) {
+        row.set("exposure_us", exposure).set("noise", "sensor").set("binning", b)
+            .set("width", stack.camera->width()).set("height", stack.camera->height())
+            .set("frames", static_cast<int>(times.size())).set("heading_deg", heading)
+            .set("dolp_error_rms", fn.dolp_rms).set("clipped_fraction", fn.clipped)
+            .set("is_default", exposure == default_exposure_us);
+      });
+    }
+  }
+  t.write((std::filesystem::path(o.out_dir) / "noise.csv").string());
+}
+
+}  // namespace skypol::cli::tradeoff

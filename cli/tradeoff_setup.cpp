@@ -1,0 +1,112 @@
+#include "cli/tradeoff_setup.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "camera/lens_factory.h"
+#include "camera/orientation.h"
+#include "camera/presets.h"
+#include "render/polarization_math.h"
+#include "render/scene.h"
+#include "render/truth.h"
+
+namespace skypol::cli::tradeoff {
+
+sky::Site paper_site() { return sky::Site{43.28699, 5.40336, 0}; }
+
+std::vector<sky::Instant> times_over(const std::string& center_iso, double window_min, int count) {
+  if (count < 1) throw std::invalid_argument("times_over: count must be >= 1");
+  const double c = sky::parse_iso8601(center_iso).unix_seconds;
+  std::vector<sky::Instant> t;
+  for (int i = 0; i < count; ++i) {
+    const double f = count == 1 ? 0.5 : static_cast<double>(i) / (count - 1);
+    t.push_back(sky::Instant{c + (f - 0.5) * window_min * 60.0});
+  }
+  return t;
+}
+
+std::shared_ptr<const camera::Camera> paper_camera(int binning, double heading_deg) {
+  camera::LensSpec spec = camera::lens_spec(camera::lens_preset("fujinon_fe185c057ha1"),
+                                            camera::sensor_preset("sony_imx250mzr"));
+  spec.binning = binning;
+  return std::make_shared<camera::Camera>(camera::make_lens(spec),
+                                          camera::world_from_heading_tilt_roll(heading_deg, 0, 0));
+}
+
+camera::DofpSensor paper_sensor(int binning, double exposure_us, std::uint64_t seed) {
+  camera::DofpSensor s = camera::sensor_preset("sony_imx250mzr").dofp;
+  const double area = static_cast<double>(binning) * binning;
+  s.width /= binning;
+  s.height /= binning;
+  s.exposure_us = exposure_us;
+  // 70 % of the full well for radiance 2 through an aligned polarizer in 1 ms.
+  s.electrons_per_radiance_s = 0.7 * s.full_well_e / (2.0 * 1e-3) * area;
+  s.full_well_e *= area;
+  s.dark_current_e_s *= area;
+  s.read_noise_e *= binning;
+  s.gain_dn_per_e /= area;
+  s.seed = seed;
+  camera::validate(s);
+  return s;
+}
+
+namespace {
+
+// DoLP and AoLP of one frame after the sensor: raw mosaic, demosaic, derived quantities.
+void apply_sensor(const camera::DofpSensor& sensor, std::uint64_t index, render::Frame& f) {
+  const camera::StokesPlanes p = camera::demosaic_bilinear(
+      sensor, camera::simulate_raw(sensor, f.channel("S0.Y"), f.channel("S1.Y"), f.channel("S2.Y"), index));
+  const std::vector<float>& mask = f.channel("mask");
+  std::vector<float>& dolp = f.channel("DoLP.Y");
+  std::vector<float>& aolp = f.channel("AoLP.Y");
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    const bool sky = mask[i] > 0;
+    dolp[i] = sky ? render::dolp_of(p.s0[i], p.s1[i], p.s2[i]) : 0.0f;
+    aolp[i] = sky ? render::aolp_of(p.s1[i], p.s2[i]) : 0.0f;
+  }
+  f.channel("S0.Y") = p.s0;
+  f.channel("S1.Y") = p.s1;
+  f.channel("S2.Y") = p.s2;
+}
+
+}  // namespace
+
+render::Stack render_stack(const StackRecipe& recipe) {
+  auto cam = paper_camera(recipe.binning, recipe.heading_deg);
+  const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(recipe.sky);
+  render::RenderOptions ro;
+  ro.spp = recipe.spp;
+  ro.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  const render::Renderer renderer(cam, ro);
+  if (recipe.sensor && (recipe.sensor->width != cam->width() || recipe.sensor->height != cam->height()))
+    throw std::invalid_argument("render_stack: sensor size differs from the camera's");
+
+  // make_truth reads only the site, the sun options and the orientation angles of a scene.
+  render::Scene scene;
+  scene.site = paper_site();
+  scene.camera.heading_deg = recipe.heading_deg;
+
+  render::Stack stack;
+  stack.camera = cam;
+  stack.bands = {"Y"};
+  stack.frames.resize(recipe.times.size());
+  for (std::size_t i = 0; i < recipe.times.size(); ++i) {
+    const render::Truth truth = render::make_truth(scene, *cam, recipe.times[i]);
+    stack.frames[i] = renderer.render(*sky_model, truth.sun);  // parallel over tiles
+    stack.frames[i].truth = truth;
+  }
+  // The sensor is one thread per frame (its random numbers depend on the frame index only, so the
+  // order does not matter): frames in parallel.
+  tbb::parallel_for(std::size_t{0}, stack.frames.size(), [&](std::size_t i) {
+    render::Frame& f = stack.frames[i];
+    if (recipe.sensor) apply_sensor(*recipe.sensor, i, f);
+    if (!recipe.keep_stokes) {
+      for (const char* c : {"S0.Y", "S1.Y", "S2.Y"}) f.channels.erase(c);
+    }
+  });
+  return stack;
+}
+
+}  // namespace skypol::cli::tradeoff

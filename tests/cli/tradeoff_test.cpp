@@ -1,0 +1,368 @@
+// `skypol tradeoff all --small` and `scripts/benchmarks --small` as the report's author runs them:
+// the tables have their columns, every number is finite, and what must be ordered is ordered
+// (more Newton iterations never round-trip worse, more samples cover the image circle's edge
+// better, a longer exposure clips more). Timings are printed by the report, never asserted here.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+Result run_command(const std::string& cmd) {
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string skypol_bin() {
+  const char* bin = std::getenv("SKYPOL_BIN");
+  REQUIRE(bin != nullptr);
+  return bin;
+}
+
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("skypol-tradeoff-" + std::to_string(::getpid()) + "-" + name)) {
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+// A CSV table: header and rows of fields (RFC 4180 quoting).
+struct Csv {
+  std::vector<std::string> columns;
+  std::vector<std::map<std::string, std::string>> rows;
+
+  std::vector<std::map<std::string, std::string>> where(const std::string& col, const std::string& value) const {
+    std::vector<std::map<std::string, std::string>> out;
+    for (const auto& r : rows)
+      if (r.at(col) == value) out.push_back(r);
+    return out;
+  }
+};
+
+std::vector<std::string> split_record(std::istream& in) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  char c;
+  while (in.get(c)) {
+    if (quoted) {
+      if (c == '"') {
+        if (in.peek() == '"') {
+          fields.back() += '"';
+          in.get();
+        } else {
+          quoted = false;
+        }
+      } else {
+        fields.back() += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back();
+    } else if (c == '\n') {
+      return fields;
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields.size() == 1 && fields[0].empty() ? std::vector<std::string>{} : fields;
+}
+
+Csv read_csv(const fs::path& path) {
+  INFO(path.string());
+  REQUIRE(fs::exists(path));
+  std::ifstream in(path);
+  Csv t;
+  t.columns = split_record(in);
+  for (auto rec = split_record(in); !rec.empty(); rec = split_record(in)) {
+    REQUIRE(rec.size() == t.columns.size());
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < rec.size(); ++i) row[t.columns[i]] = rec[i];
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+// A field that must hold a finite number.
+double num(const std::map<std::string, std::string>& row, const std::string& col) {
+  INFO(col << " = \"" << row.at(col) << "\"");
+  const std::string& s = row.at(col);
+  REQUIRE(!s.empty());
+  std::size_t used = 0;
+  const double v = std::stod(s, &used);
+  REQUIRE(used == s.size());
+  REQUIRE(std::isfinite(v));
+  return v;
+}
+
+// Every non-empty field of these columns is a finite number (no NaN, no Inf spelled out).
+void all_finite(const Csv& t, const std::vector<std::string>& cols) {
+  for (const auto& r : t.rows)
+    for (const auto& c : cols)
+      if (!r.at(c).empty()) (void)num(r, c);
+}
+
+const std::vector<std::string> kScore = {"method", "valid", "angular_error_deg", "bearing_error_deg",
+                                         "latitude_error_deg", "estimate_s", "why_invalid"};
+std::vector<std::string> with_score(std::vector<std::string> first) {
+  first.insert(first.end(), kScore.begin(), kScore.end());
+  return first;
+}
+
+const std::vector<std::string> kMethods = {"classic", "great_circle", "invariance", "sun_vector",
+                                           "sun_vector_ephemeris", "sun_dolp"};
+
+// Rows of an estimator table: six methods per setting; valid rows carry finite errors.
+void check_scores(const Csv& t) {
+  REQUIRE(t.rows.size() % kMethods.size() == 0);
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const auto& r = t.rows[i];
+    CHECK(r.at("method") == kMethods[i % kMethods.size()]);
+    CHECK(num(r, "estimate_s") >= 0);
+    if (r.at("valid") == "1") {
+      CHECK(num(r, "angular_error_deg") >= 0);
+      CHECK(num(r, "angular_error_deg") <= 180);
+      CHECK(num(r, "latitude_error_deg") >= 0);
+      CHECK(r.at("why_invalid").empty());
+    } else {
+      CHECK(r.at("valid") == "0");
+      CHECK(r.at("angular_error_deg").empty());
+      CHECK(!r.at("why_invalid").empty());
+    }
+  }
+}
+
+}  // namespace
+
+// One run for all the sections below (Catch2 re-enters the test case once per section).
+const fs::path& small_tables() {
+  static TempDir tmp("csv");
+  static const Result r = run_command(skypol_bin() + " tradeoff all --small --out " + tmp.path.string());
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  return tmp.path;
+}
+
+TEST_CASE("skypol tradeoff all --small writes every table with its columns and sane values", "[cli][tradeoff]") {
+  const fs::path& out = small_tables();
+
+  SECTION("meta: how the figures were made") {
+    const Csv t = read_csv(out / "meta.csv");
+    CHECK(t.columns == std::vector<std::string>{"key", "value"});
+    std::map<std::string, std::string> m;
+    for (const auto& row : t.rows) m[row.at("key")] = row.at("value");
+    for (const char* k : {"date_utc", "studies", "small", "threads", "compiler", "optimized", "assertions", "seconds"})
+      CHECK(m.count(k) == 1);
+    CHECK(m["small"] == "1");
+    CHECK(std::stoi(m["threads"]) >= 1);
+  }
+
+  SECTION("spp: the pixel centre is the default, and more samples cover the circle's edge better") {
+    const Csv t = read_csv(out / "spp.csv");
+    CHECK(t.columns == std::vector<std::string>{"sky", "spp", "width", "height", "setup_ms", "ms_per_frame",
+                                                "stokes_rms_rel", "stokes_max_rel", "dolp_rms", "dolp_max",
+                                                "edge_pixels", "coverage_rms", "coverage_max", "reference_grid",
+                                                "is_default"});
+    all_finite(t, {"spp", "ms_per_frame", "stokes_rms_rel", "dolp_rms", "coverage_rms", "coverage_max"});
+    for (const char* sky : {"rayleigh", "rayleigh+sun_disc"}) {
+      const auto rows = t.where("sky", sky);
+      REQUIRE(rows.size() >= 2);
+      CHECK(rows.front().at("spp") == "1");
+      CHECK(rows.front().at("is_default") == "1");
+      for (std::size_t i = 1; i < rows.size(); ++i) {
+        CHECK(num(rows[i], "spp") > num(rows[i - 1], "spp"));
+        CHECK(rows[i].at("is_default") == "0");
+      }
+      // Coverage is the mean of 0/1 samples: at spp 1 an edge pixel is all or nothing.
+      CHECK(num(rows.back(), "coverage_rms") < num(rows.front(), "coverage_rms"));
+      for (const auto& r : rows) CHECK(num(r, "edge_pixels") > 0);
+    }
+    // Inside the circle a smooth sky's DoLP is close at any spp (the reference is a midpoint rule).
+    for (const auto& r : t.where("sky", "rayleigh")) CHECK(num(r, "dolp_max") < 0.02);
+  }
+
+  SECTION("resolution: every estimator at every setting, noise-free and through the sensor") {
+    const Csv t = read_csv(out / "resolution.csv");
+    CHECK(t.columns ==
+          with_score({"binning", "width", "height", "frames", "noise", "heading_deg", "render_s", "is_default"}));
+    all_finite(t, {"binning", "width", "height", "frames", "render_s", "angular_error_deg"});
+    check_scores(t);
+    CHECK(t.where("noise", "none").size() == t.where("noise", "sensor_1ms").size());
+    // The sun-vector estimator on noise-free Rayleigh stacks is exact to < 1e-4° (skypole/README.md).
+    for (const auto& r : t.where("noise", "none"))
+      if (r.at("method") == "sun_vector") CHECK(num(r, "angular_error_deg") < 0.01);
+  }
+
+  SECTION("window: a long window fixes the pole better than a short one") {
+    const Csv t = read_csv(out / "window.csv");
+    CHECK(t.columns == with_score({"window_min", "frames", "step_min", "binning", "width", "height", "heading_deg",
+                                   "is_default"}));
+    all_finite(t, {"window_min", "frames", "step_min", "angular_error_deg"});
+    check_scores(t);
+    double short_gc = -1, long_gc = -1;
+    for (const auto& r : t.rows) {
+      CHECK(num(r, "step_min") == Approx(num(r, "window_min") / (num(r, "frames") - 1)));
+      if (r.at("method") != "great_circle") continue;
+      if (r.at("window_min") == "60") short_gc = num(r, "angular_error_deg");
+      if (r.at("window_min") == "480") long_gc = num(r, "angular_error_deg");
+    }
+    // great_circle's circles fan over the arc the sun covers: 8 h pins the pole, 1 h barely.
+    REQUIRE(short_gc >= 0);
+    REQUIRE(long_gc >= 0);
+    CHECK(long_gc < short_gc);
+    CHECK(t.where("is_default", "1").size() == kMethods.size());
+  }
+
+  SECTION("noise: longer exposures clip, the noise-free stack has no DoLP error") {
+    const Csv t = read_csv(out / "noise.csv");
+    CHECK(t.columns == with_score({"exposure_us", "noise", "binning", "width", "height", "frames", "heading_deg",
+                                   "dolp_error_rms", "clipped_fraction", "is_default"}));
+    all_finite(t, {"exposure_us", "dolp_error_rms", "clipped_fraction", "angular_error_deg"});
+    check_scores(t);
+    for (const auto& r : t.where("noise", "none")) {
+      CHECK(r.at("exposure_us").empty());
+      CHECK(num(r, "dolp_error_rms") == 0);
+    }
+    std::map<double, double> clipped;
+    for (const auto& r : t.where("noise", "sensor")) {
+      CHECK(num(r, "dolp_error_rms") > 0);
+      CHECK(num(r, "clipped_fraction") >= 0);
+      CHECK(num(r, "clipped_fraction") <= 1);
+      clipped[num(r, "exposure_us")] = num(r, "clipped_fraction");
+    }
+    REQUIRE(clipped.size() >= 2);
+    // 70 % of the well at 1 ms for the brightest sky: nothing clips at 1 ms, something at 4 ms.
+    CHECK(clipped.at(1000) == 0);
+    CHECK(clipped.rbegin()->first > 1500);
+    CHECK(clipped.rbegin()->second > 0);
+    CHECK(t.where("is_default", "1").size() == kMethods.size());
+  }
+
+  SECTION("lens inverse: each Newton iteration round-trips better until it converges") {
+    const Csv t = read_csv(out / "lens_inverse.csv");
+    CHECK(t.columns == std::vector<std::string>{"lens", "mode", "max_iterations", "tolerance_rad", "mean_iterations",
+                                                "ns_per_ray", "ms_per_full_frame", "roundtrip_rms_px",
+                                                "roundtrip_max_px", "rays", "is_default"});
+    all_finite(t, {"ns_per_ray", "roundtrip_rms_px", "roundtrip_max_px", "rays"});
+    const auto its = t.where("mode", "iterations");
+    REQUIRE(its.size() >= 4);
+    CHECK(num(its[0], "roundtrip_max_px") > 1);  // θ = r alone is tens of pixels off at 92°
+    // Quadratic convergence: strictly better until the error reaches rounding (1e-9 px).
+    for (std::size_t i = 1; i < its.size(); ++i)
+      if (num(its[i - 1], "roundtrip_max_px") > 1e-9)
+        CHECK(num(its[i], "roundtrip_max_px") < num(its[i - 1], "roundtrip_max_px"));
+    const auto lib = t.where("mode", "library");
+    REQUIRE(lib.size() == 1);
+    CHECK(lib[0].at("is_default") == "1");
+    CHECK(num(lib[0], "roundtrip_max_px") < 1e-9);
+    const auto eq = t.where("lens", "equidistant");
+    REQUIRE(eq.size() == 1);
+    CHECK(num(eq[0], "roundtrip_max_px") < 1e-9);
+  }
+
+  SECTION("sky precision: float agrees with double far below any sensor's noise") {
+    const Csv t = read_csv(out / "sky_precision.csv");
+    CHECK(t.columns == std::vector<std::string>{"sky", "precision", "ns_per_ray", "mrays_per_s_one_thread",
+                                                "stokes_max_rel", "stokes_rms_rel", "dolp_max", "aolp_max_deg",
+                                                "rays", "is_default"});
+    all_finite(t, {"ns_per_ray", "mrays_per_s_one_thread", "stokes_max_rel", "dolp_max", "aolp_max_deg"});
+    REQUIRE(t.rows.size() == 6);
+    for (const auto& r : t.where("precision", "float")) {
+      CHECK(r.at("is_default") == "1");
+      // float has 24 bits: a few ulp of relative error, never more than 1e-5.
+      CHECK(num(r, "stokes_max_rel") > 0);
+      CHECK(num(r, "stokes_max_rel") < 1e-5);
+      CHECK(num(r, "dolp_max") < 1e-5);
+      CHECK(num(r, "aolp_max_deg") < 1e-3);
+    }
+    for (const auto& r : t.where("precision", "double")) CHECK(num(r, "stokes_max_rel") == 0);
+  }
+
+  SECTION("throughput: every quantity at every size, and the occluder placeholder") {
+    const Csv t = read_csv(out / "throughput.csv");
+    CHECK(t.columns == std::vector<std::string>{"quantity", "method", "binning", "width", "height", "frames",
+                                                "seconds", "rate", "unit", "mb", "file_mb", "note"});
+    all_finite(t, {"binning", "width", "height", "frames", "seconds", "rate", "mb", "file_mb"});
+    for (const char* q : {"ray_setup", "sky_render", "exr_write", "stack_read"}) {
+      const auto rows = t.where("quantity", q);
+      CHECK(rows.size() == 3);
+      for (const auto& r : rows) CHECK(num(r, "seconds") > 0);
+    }
+    for (const char* q : {"exr_write", "stack_read"})
+      for (const auto& r : t.where("quantity", q)) {
+        // Uncompressed float pixels: 6 channels × 4 bytes × pixels × frames.
+        CHECK(num(r, "mb") == Approx(24e-6 * num(r, "width") * num(r, "height") * num(r, "frames")).epsilon(1e-4));
+        CHECK(num(r, "file_mb") > 0);
+        CHECK(num(r, "rate") > 0);
+      }
+    CHECK(t.where("quantity", "estimate").size() == 3 * kMethods.size());
+    const auto occ = t.where("quantity", "occluded_rays");
+    REQUIRE(occ.size() == 1);
+    CHECK(occ[0].at("rate").empty());
+    CHECK(occ[0].at("note").find("placeholder") != std::string::npos);
+    CHECK(!fs::exists(out / "throughput-scratch"));  // its stacks are removed
+  }
+}
+
+TEST_CASE("skypol tradeoff refuses an unknown study and writes nothing", "[cli][tradeoff]") {
+  TempDir tmp("bad");
+  const fs::path out = tmp.path / "never";
+  const Result r = run_command(skypol_bin() + " tradeoff spp_typo --out " + out.string());
+  CHECK(r.code == 2);
+  CHECK(r.out.find("unknown study \"spp_typo\"") != std::string::npos);
+  CHECK(r.out.find("lens_inverse") != std::string::npos);  // the legal names are listed
+  CHECK(!fs::exists(out));
+  CHECK(run_command(skypol_bin() + " tradeoff spp").code != 0);  // --out is required
+}
+
+TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
+  TempDir tmp("report");
+  const std::string cmd = std::string(SKYPOL_SOURCE_DIR) + "/scripts/benchmarks --small --out " +
+                          tmp.path.string() + " --skypol " + skypol_bin();
+  const Result r = run_command(cmd);
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  const fs::path md = tmp.path / "benchmarks.md";
+  REQUIRE(fs::exists(md));
+  std::ifstream in(md);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string report = text.str();
+  for (const char* s : {"## Recommended defaults", "| machine |", "| build |", "| date |", "scripts/benchmarks"})
+    CHECK(report.find(s) != std::string::npos);
+  CHECK(report.find("| nan") == std::string::npos);  // undefined values print as "—"
+  CHECK(report.find("nan |") == std::string::npos);
+  for (const char* png : {"spp", "resolution", "window", "noise", "lens_inverse", "sky_precision", "throughput"}) {
+    INFO(png);
+    const fs::path p = tmp.path / "figures" / "benchmarks" / (std::string(png) + ".png");
+    REQUIRE(fs::exists(p));
+    CHECK(fs::file_size(p) > 5000);
+    CHECK(fs::file_size(p) < 150000);
+    CHECK(report.find("figures/benchmarks/" + std::string(png) + ".png") != std::string::npos);
+  }
+}
