@@ -1,6 +1,7 @@
-// Study 4: sensor noise. The paper's day (06:00–17:00 UTC, hourly) at 4×4 binning through the IMX250MZR-like DoFP sensor
-// (cli/tradeoff_setup.h) at exposures from 30 µs (few electrons: shot and read noise) to 4 ms
-// (the bright sky near the sun clips at the full well), plus the noise-free stack; three headings.
+// Study 4: sensor noise. The paper's day (06:00–17:00 UTC, hourly) at 4×4 binning through the
+// IMX250MZR-like DoFP sensor (cli/tradeoff_setup.h) at exposures from 30 µs (few electrons: shot
+// and read noise) to 4 ms (the brightest pixels clip at the full well from about 1.4 ms), plus the
+// noise-free stack; three headings.
 // Beside every estimator's error: the noon frame's DoLP error (RMS against the noise-free DoLP over
 // the sky pixels: noise, demosaic error and the polarizers' finite extinction together) and the
 // fraction of its sky pixels that clip.

@@ -41,8 +41,8 @@ camera::DofpSensor paper_sensor(int binning, double exposure_us, std::uint64_t s
   s.width /= binning;
   s.height /= binning;
   s.exposure_us = exposure_us;
-  // 70 % of the full well for radiance 2 through an aligned polarizer in 1 ms.
-  s.electrons_per_radiance_s = 0.7 * s.full_well_e / (2.0 * 1e-3) * area;
+  // 70 % of the full well for polarizer radiance 1 in 1 ms (tradeoff_setup.h).
+  s.electrons_per_radiance_s = 0.7 * s.full_well_e / 1e-3 * area;
   s.full_well_e *= area;
   s.dark_current_e_s *= area;
   s.read_noise_e *= binning;

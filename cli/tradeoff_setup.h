@@ -33,8 +33,9 @@ std::shared_ptr<const camera::Camera> paper_camera(int binning, double heading_d
 
 // The IMX250MZR preset exposed for `exposure_us`, scaled for b×b binning as a sensor with b×
 // larger pixels (signal, dark current and full well ×b², read noise ×b, gain ÷b²).
-// electrons_per_radiance_s is set so that the brightest Rayleigh sky radiance (S0 = 2) behind an
-// aligned polarizer fills 70 % of the full well at 1000 µs: 1 ms is the well-exposed default.
+// electrons_per_radiance_s is set so that radiance 1 fills 70 % of the full well at 1000 µs: 1 is
+// the most a pixel behind a polarizer sees of a Rayleigh sky (½·S0·(1 + DoLP) = ½(1 + cos²γ +
+// Pmax·sin²γ) ≤ 1), so 1 ms is the well-exposed default and clipping starts near 1.4 ms.
 camera::DofpSensor paper_sensor(int binning, double exposure_us, std::uint64_t seed);
 
 struct StackRecipe {

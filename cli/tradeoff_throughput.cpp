@@ -27,14 +27,14 @@ std::string scene_text(int b, int frames, const std::string& out) {
   std::string instants;
   for (const sky::Instant t : times_over("2022-09-23T11:30:00Z", frames > 1 ? 660 : 0, frames))
     instants += (instants.empty() ? "\"" : ", \"") + sky::format_iso8601(t) + "\"";
-  char text[1024];
-  std::snprintf(text, sizeof text,
-                "[site]\nlatitude_deg = %.5f\nlongitude_deg = %.5f\n[time]\ninstants = [%s]\n"
+  char camera[256];
+  std::snprintf(camera, sizeof camera,
                 "[camera]\nmodel = \"equidistant\"\nfocal_mm = 1.8\npitch_um = %g\nwidth = %d\nheight = %d\n"
-                "fov_deg = 185\n[sky]\nmax_dolp = 0.7\n[output]\npath = \"%s\"\n",
-                paper_site().latitude_deg, paper_site().longitude_deg, instants.c_str(), 3.45 * b, 2448 / b,
-                2048 / b, out.c_str());
-  return text;
+                "fov_deg = 185\n",
+                3.45 * b, 2448 / b, 2048 / b);
+  return "[site]\nlatitude_deg = " + std::to_string(paper_site().latitude_deg) +
+         "\nlongitude_deg = " + std::to_string(paper_site().longitude_deg) + "\n[time]\ninstants = [" + instants +
+         "]\n" + camera + "[sky]\nmax_dolp = 0.7\n[output]\npath = \"" + out + "\"\n";
 }
 
 }  // namespace
