@@ -22,23 +22,22 @@ struct FrameNoise {
   double clipped = 0;  // fraction of sky pixels at the ADC's or the well's top
 };
 
-// The noise of frame `index` against its noise-free twin (same size, same truth).
-FrameNoise frame_noise(const camera::DofpSensor& sensor, const render::Frame& clean, std::size_t index) {
-  const auto raw = camera::simulate_raw(sensor, clean.channel("S0.Y"), clean.channel("S1.Y"),
-                                        clean.channel("S2.Y"), index);
-  const auto top = static_cast<std::uint16_t>(
-      std::min((1 << sensor.adc_bits) - 1.0, std::floor(sensor.black_level_dn + sensor.full_well_e * sensor.gain_dn_per_e)));
-  const camera::StokesPlanes p = camera::demosaic_bilinear(sensor, raw);
+// What the sensor did to one frame: its DoLP against the noise-free twin's, and its raw mosaic's
+// clipped pixels (at the ADC's top or the full well's, whichever is lower), over the sky pixels.
+FrameNoise frame_noise(const camera::DofpSensor& sensor, const render::Frame& noisy, const render::Frame& clean) {
+  const auto top = std::min((1 << sensor.adc_bits) - 1.0,
+                            std::floor(sensor.black_level_dn + sensor.full_well_e * sensor.gain_dn_per_e));
+  const auto& raw = noisy.channel("raw");
+  const auto& dolp = noisy.channel("DoLP.Y");
   const auto& mask = clean.channel("mask");
-  const auto& dolp = clean.channel("DoLP.Y");
+  const auto& truth = clean.channel("DoLP.Y");
   double ss = 0;
   int n = 0, clipped = 0;
   for (std::size_t i = 0; i < mask.size(); ++i) {
     if (mask[i] < 1) continue;
-    const double s0 = p.s0[i], s1 = p.s1[i], s2 = p.s2[i];
-    const double d = std::sqrt(s1 * s1 + s2 * s2) / std::max(1e-30, s0) - static_cast<double>(dolp[i]);
+    const double d = static_cast<double>(dolp[i]) - static_cast<double>(truth[i]);
     ss += d * d;
-    clipped += raw[i] >= top;
+    clipped += static_cast<double>(raw[i]) >= top;
     ++n;
   }
   return {n ? std::sqrt(ss / n) : 0, n ? static_cast<double>(clipped) / n : 0};
@@ -75,9 +74,10 @@ void study_noise(const StudyOptions& o) {
     for (const double exposure : exposures) {
       StackRecipe r = clean_recipe;
       r.keep_stokes = false;
+      r.keep_raw = true;
       r.sensor = paper_sensor(b, exposure, static_cast<std::uint64_t>(seed++));
       const render::Stack stack = render_stack(r);
-      const FrameNoise fn = frame_noise(*r.sensor, clean.frames[noon], noon);
+      const FrameNoise fn = frame_noise(*r.sensor, stack.frames[noon], clean.frames[noon]);
       score_every_method(stack, t, [&](Table& row) {
         row.set("exposure_us", exposure).set("noise", "sensor").set("binning", b)
             .set("width", stack.camera->width()).set("height", stack.camera->height())

@@ -8,8 +8,8 @@
 #include "camera/lens_factory.h"
 #include "camera/orientation.h"
 #include "camera/presets.h"
-#include "render/polarization_math.h"
 #include "render/scene.h"
+#include "render/sensor_stage.h"
 #include "render/truth.h"
 
 namespace skypol::cli::tradeoff {
@@ -52,27 +52,6 @@ camera::DofpSensor paper_sensor(int binning, double exposure_us, std::uint64_t s
   return s;
 }
 
-namespace {
-
-// DoLP and AoLP of one frame after the sensor: raw mosaic, demosaic, derived quantities.
-void apply_sensor(const camera::DofpSensor& sensor, std::uint64_t index, render::Frame& f) {
-  const camera::StokesPlanes p = camera::demosaic_bilinear(
-      sensor, camera::simulate_raw(sensor, f.channel("S0.Y"), f.channel("S1.Y"), f.channel("S2.Y"), index));
-  const std::vector<float>& mask = f.channel("mask");
-  std::vector<float>& dolp = f.channel("DoLP.Y");
-  std::vector<float>& aolp = f.channel("AoLP.Y");
-  for (std::size_t i = 0; i < mask.size(); ++i) {
-    const bool sky = mask[i] > 0;
-    dolp[i] = sky ? render::dolp_of(p.s0[i], p.s1[i], p.s2[i]) : 0.0f;
-    aolp[i] = sky ? render::aolp_of(p.s1[i], p.s2[i]) : 0.0f;
-  }
-  f.channel("S0.Y") = p.s0;
-  f.channel("S1.Y") = p.s1;
-  f.channel("S2.Y") = p.s2;
-}
-
-}  // namespace
-
 render::Stack render_stack(const StackRecipe& recipe) {
   auto cam = paper_camera(recipe.binning, recipe.heading_deg);
   const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(recipe.sky);
@@ -99,9 +78,11 @@ render::Stack render_stack(const StackRecipe& recipe) {
   }
   // The sensor is one thread per frame (its random numbers depend on the frame index only, so the
   // order does not matter): frames in parallel.
+  render::SensorSpec sensor;
+  if (recipe.sensor) sensor.dofp = *recipe.sensor;
   tbb::parallel_for(std::size_t{0}, stack.frames.size(), [&](std::size_t i) {
     render::Frame& f = stack.frames[i];
-    if (recipe.sensor) apply_sensor(*recipe.sensor, i, f);
+    if (recipe.sensor) render::apply_sensor(sensor, {"Y"}, i, f, recipe.keep_raw);
     if (!recipe.keep_stokes) {
       for (const char* c : {"S0.Y", "S1.Y", "S2.Y"}) f.channels.erase(c);
     }

@@ -46,11 +46,11 @@ struct StackRecipe {
   int spp = 1;
   std::optional<camera::DofpSensor> sensor;  // none: noise-free Stokes
   bool keep_stokes = false;                  // keep S0, S1, S2 (else DoLP, AoLP, mask only)
+  bool keep_raw = false;                     // with a sensor: keep its raw mosaic as channel "raw"
 };
 
-// Renders the recipe with render::Renderer (band "Y"). With a sensor, each frame's S0..S2 go
-// through simulate_raw (frame index = its position) and demosaic_bilinear, and DoLP and AoLP are
-// formed from the demosaiced Stokes (pixels outside the mask stay 0).
+// Renders the recipe with render::Renderer (band "Y"). With a sensor, each frame goes through the
+// pipeline's own sensor stage (render/sensor_stage.h; frame index = its position in the stack).
 render::Stack render_stack(const StackRecipe& recipe);
 
 }  // namespace skypol::cli::tradeoff

@@ -62,7 +62,7 @@ void study_throughput(const StudyOptions& o) {
   };
   for (const Config& c : configs) {
     const render::Scene scene = render::parse_scene(scene_text(c.binning, c.frames, path), "tradeoff-throughput");
-    const int w = scene.camera.width, h = scene.camera.height;
+    const int w = scene.camera.lens.width, h = scene.camera.lens.height;
     const render::RenderReport rep = render::render_scene(scene, path);
     const double px = static_cast<double>(w) * h * c.frames;
     const double mb = px * static_cast<double>(scene.output.channels.size()) * sizeof(float) / 1e6;
