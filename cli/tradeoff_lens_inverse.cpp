@@ -62,15 +62,17 @@ Measured measure(const camera::Lens& lens, const std::vector<Eigen::Vector2d>& p
   Measured m;
   m.ns_per_ray = 1e9 * s / static_cast<double>(pixels.size());
   double ss = 0, it = 0;
+  bool counted = true;  // an inverse that cannot count its iterations reports −1
   for (std::size_t i = 0; i < pixels.size(); ++i) {
     const auto back = lens.project(rays[i]);
     const double e = back ? (*back - pixels[i]).norm() : 1e9;  // cannot happen inside the circle
     ss += e * e;
     m.max_px = std::max(m.max_px, e);
     it += iterations[i];
+    counted = counted && iterations[i] >= 0;
   }
   m.rms_px = std::sqrt(ss / static_cast<double>(pixels.size()));
-  m.mean_iterations = it / static_cast<double>(pixels.size());
+  m.mean_iterations = counted ? it / static_cast<double>(pixels.size()) : std::nan("");
   return m;
 }
 
@@ -123,7 +125,7 @@ void study_lens_inverse(const StudyOptions& o) {
   for (const double tol : {1e-3, 1e-5, 1e-7, 1e-9, 1e-12})
     add("kannala_brandt", "tolerance", 50, tol, measure(kb, pixels, kb_inverse(50, tol)), false);
   add("kannala_brandt", "library", 200, 1e-15, measure(kb, pixels, [&](const Eigen::Vector2d& p, int& its) {
-        its = 0;
+        its = -1;
         return kb.ray(p).value_or(Eigen::Vector3d::UnitZ());
       }), true);
 
@@ -136,7 +138,7 @@ void study_lens_inverse(const StudyOptions& o) {
       if (eq->ray(Eigen::Vector2d(x, y))) eq_pixels.emplace_back(x, y);
   pixels = eq_pixels;
   add("equidistant", "closed_form", 0, std::nan(""), measure(*eq, pixels, [&](const Eigen::Vector2d& p, int& its) {
-        its = 0;
+        its = -1;
         return eq->ray(p).value_or(Eigen::Vector3d::UnitZ());
       }), true);
   t.write((std::filesystem::path(o.out_dir) / "lens_inverse.csv").string());

@@ -140,30 +140,23 @@ void study_spp(const StudyOptions& o) {
     sky::SkySpec spec;
     spec.sun_disc = disc;
     const auto sky_model = sky::make_sky(spec);
-    auto render_at = [&](int spp, int repeats, double* setup_ms, double* frame_ms) {
+    const render::Frame ref = reference_frame(*cam, *sky_model, truth.sun, reference_grid);
+    for (const int spp : spps) {
       render::RenderOptions ro;
       ro.spp = spp;
       ro.channels = {"S0", "S1", "S2", "DoLP", "mask"};
       std::unique_ptr<render::Renderer> r;
-      const double setup = best_seconds(1, [&] { r = std::make_unique<render::Renderer>(cam, ro); });
+      const double setup_s = best_seconds(1, [&] { r = std::make_unique<render::Renderer>(cam, ro); });
       render::Frame f;
-      const double frame = best_seconds(repeats, [&] { f = r->render(*sky_model, truth.sun); });
-      if (setup_ms) *setup_ms = 1e3 * setup;
-      if (frame_ms) *frame_ms = 1e3 * frame;
-      return f;
-    };
-    const render::Frame ref = reference_frame(*cam, *sky_model, truth.sun, reference_grid);
-    for (const int spp : spps) {
-      double setup_ms = 0, frame_ms = 0;
-      const render::Frame f = render_at(spp, o.small || spp >= 64 ? 1 : 3, &setup_ms, &frame_ms);
+      const double frame_s = best_seconds(o.small || spp >= 64 ? 1 : 3, [&] { f = r->render(*sky_model, truth.sun); });
       const Errors e = compare(f, ref);
       t.row()
           .set("sky", disc ? "rayleigh+sun_disc" : "rayleigh")
           .set("spp", spp)
           .set("width", cam->width())
           .set("height", cam->height())
-          .set("setup_ms", setup_ms)
-          .set("ms_per_frame", frame_ms)
+          .set("setup_ms", 1e3 * setup_s)
+          .set("ms_per_frame", 1e3 * frame_s)
           .set("stokes_rms_rel", e.stokes_rms)
           .set("stokes_max_rel", e.stokes_max)
           .set("dolp_rms", e.dolp_rms)
