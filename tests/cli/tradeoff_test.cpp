@@ -159,17 +159,20 @@ void check_scores(const Csv& t) {
 
 }  // namespace
 
-// One run for all the sections below (Catch2 re-enters the test case once per section).
-const fs::path& small_tables() {
-  static TempDir tmp("csv");
-  static const Result r = run_command(skypol_bin() + " tradeoff all --small --out " + tmp.path.string());
+// One run of the whole report, small, for every test case below (Catch2 re-enters a test case
+// once per section): scripts/benchmarks --small runs `skypol tradeoff all --small` into
+// <dir>/figures/benchmarks, then plots and writes <dir>/benchmarks.md.
+const fs::path& small_report() {
+  static TempDir tmp("report");
+  static const Result r = run_command(std::string(SKYPOL_SOURCE_DIR) + "/scripts/benchmarks --small --out " +
+                                      tmp.path.string() + " --skypol " + skypol_bin());
   INFO(r.out);
   REQUIRE(r.code == 0);
   return tmp.path;
 }
 
 TEST_CASE("skypol tradeoff all --small writes every table with its columns and sane values", "[cli][tradeoff]") {
-  const fs::path& out = small_tables();
+  const fs::path out = small_report() / "figures" / "benchmarks";
 
   SECTION("meta: how the figures were made") {
     const Csv t = read_csv(out / "meta.csv");
@@ -341,13 +344,8 @@ TEST_CASE("skypol tradeoff refuses an unknown study and writes nothing", "[cli][
 }
 
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
-  TempDir tmp("report");
-  const std::string cmd = std::string(SKYPOL_SOURCE_DIR) + "/scripts/benchmarks --small --out " +
-                          tmp.path.string() + " --skypol " + skypol_bin();
-  const Result r = run_command(cmd);
-  INFO(r.out);
-  REQUIRE(r.code == 0);
-  const fs::path md = tmp.path / "benchmarks.md";
+  const fs::path& dir = small_report();
+  const fs::path md = dir / "benchmarks.md";
   REQUIRE(fs::exists(md));
   std::ifstream in(md);
   std::stringstream text;
@@ -359,7 +357,7 @@ TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][t
   CHECK(report.find("nan |") == std::string::npos);
   for (const char* png : {"spp", "resolution", "window", "noise", "lens_inverse", "sky_precision", "throughput"}) {
     INFO(png);
-    const fs::path p = tmp.path / "figures" / "benchmarks" / (std::string(png) + ".png");
+    const fs::path p = dir / "figures" / "benchmarks" / (std::string(png) + ".png");
     REQUIRE(fs::exists(p));
     CHECK(fs::file_size(p) > 5000);
     CHECK(fs::file_size(p) < 150000);
