@@ -3,8 +3,8 @@
 // pipeline: render::render_scene (camera rays once, sky per frame, EXR encode and write with the
 // scene defaults: float, zip, S0 S1 S2 DoLP AoLP mask), render::read_stack, then every estimator
 // on the stack read back. MB are uncompressed pixel data (what the renderer hands the writer).
-// Mrays/s with occluders is a placeholder row: scripts/benchmarks fills it from `skypol bench
-// --json` once that reports occluders.
+// Mrays/s with occluders is a placeholder row: `skypol bench-occluders` measures Embree on the
+// urban canyon, and scripts/benchmarks fills the row from it.
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -86,9 +86,9 @@ void study_throughput(const StudyOptions& o) {
     }
     fs::remove(path);
   }
-  // Rays against Embree occluders: not measured here (no occluder scene in this tree yet).
+  // Rays against Embree occluders: measured by `skypol bench-occluders` (render/occluders_bench.h).
   t.row().set("quantity", "occluded_rays").set("unit", "Mrays/s")
-      .set("note", "placeholder: scripts/benchmarks fills it from `skypol bench --json` when it reports occluders");
+      .set("note", "placeholder: scripts/benchmarks fills it from `skypol bench-occluders`");
   fs::remove_all(scratch);
   t.write((fs::path(o.out_dir) / "throughput.csv").string());
 }
