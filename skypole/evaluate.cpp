@@ -16,15 +16,6 @@
 namespace skypol::skypole {
 namespace {
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"') q += '"';
-    q += c;
-  }
-  return q + "\"";
-}
 
 std::string num(double v) {
   if (!std::isfinite(v)) return "";
@@ -36,6 +27,16 @@ std::string num(double v) {
 std::string num(const std::optional<double>& v) { return v ? num(*v) : std::string(); }
 
 }  // namespace
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"') q += '"';
+    q += c;
+  }
+  return q + "\"";
+}
 
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"classic", "great_circle", "invariance",

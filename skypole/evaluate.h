@@ -55,6 +55,8 @@ std::vector<MethodSummary> summarize(const std::vector<EvaluationRow>& rows);
 std::string rows_csv(const std::vector<EvaluationRow>& rows);
 // Columns: method,rows,valid,{bearing,latitude,angular}_{n,mean,median,p95,max},mean_seconds
 std::string summary_csv(const std::vector<MethodSummary>& summaries);
+// One CSV field, quoted as RFC 4180 asks when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s);
 // A fixed-width table for a terminal.
 std::string summary_text(const std::vector<MethodSummary>& summaries);
 

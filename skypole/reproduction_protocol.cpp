@@ -18,15 +18,6 @@ std::string num(double v) {
   return os.str();
 }
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"') q += '"';
-    q += c;
-  }
-  return q + "\"";
-}
 
 render::Stack first_frames(const render::Stack& s, int k) {
   render::Stack p;

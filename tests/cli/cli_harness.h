@@ -19,17 +19,22 @@ struct Result {
   std::string out;  // stdout and stderr together
 };
 
-inline Result run(const std::string& args) {
-  const char* bin = std::getenv("SKYPOL_BIN");
-  REQUIRE(bin != nullptr);
-  const std::string cmd = std::string(bin) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
+// Any shell command, its exit code and its output (stdout and stderr together).
+inline Result run_shell(const std::string& command) {
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
   REQUIRE(p != nullptr);
   std::string out;
   std::array<char, 4096> buf{};
   while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
   const int status = pclose(p);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// The skypol executable under test (SKYPOL_BIN) with these arguments.
+inline Result run(const std::string& args) {
+  const char* bin = std::getenv("SKYPOL_BIN");
+  REQUIRE(bin != nullptr);
+  return run_shell(std::string(bin) + " " + args);
 }
 
 struct TempDir {

@@ -25,14 +25,7 @@ const std::string kTiny = kSource + "/scenes/sweeps/tiny.toml";
 Result sh(const std::string& command) {
   const char* bin = std::getenv("SKYPOL_BIN");
   REQUIRE(bin != nullptr);
-  const std::string cmd = "SKYPOL='" + std::string(bin) + "' " + command + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return skypol::test::run_shell("SKYPOL='" + std::string(bin) + "' " + command);
 }
 
 std::vector<std::string> lines_of(const fs::path& p) {
