@@ -38,11 +38,13 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
   std::vector<std::string> written = channel_names(ro);
   const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
   if (keep_raw) written.emplace_back("raw");
-  // A sensor measures S0, S1, S2 whatever the file keeps, and previews show them with the mask;
+  // A sensor measures S0, S1, S2 whatever the file keeps, and previews show them;
   // the writer writes only what the file keeps.
   std::vector<const char*> needed;
   if (scene.sensor || scene.output.previews) needed = {"S0", "S1", "S2"};
-  if (scene.output.previews) needed.push_back("mask");
+  // The sensor stage needs the mask to zero (and erode) what sees no sky, even when the file
+  // does not keep it.
+  if (scene.sensor || scene.output.previews) needed.push_back("mask");
   for (const char* s : needed) {
     if (std::find(ro.channels.begin(), ro.channels.end(), s) == ro.channels.end()) ro.channels.emplace_back(s);
   }

@@ -3,10 +3,15 @@
 // and masked pixels stay zero.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
+#include <filesystem>
+
+#include "render/pipeline.h"
 #include "render/sensor_stage.h"
+#include "render/stack_io.h"
 
 using namespace skypol;
 
@@ -87,4 +92,33 @@ TEST_CASE("shot noise averages out, is keyed by the frame index, and spares mask
     CHECK(a.channel("mask")[static_cast<std::size_t>(i)] == 0.0f);
   }
   CHECK(a.channel("mask")[128] == 1.0f);
+}
+
+TEST_CASE("with a sensor, what sees no sky is zero even when the file keeps no mask", "[sensor]") {
+  const render::Scene scene = render::parse_scene(R"([site]
+latitude_deg = 43.28699
+longitude_deg = 5.40336
+[time]
+instants = ["2022-09-23T10:00:00Z"]
+[camera]
+lens_preset = "fujinon_fe185c057ha1"
+binning = 16
+[sensor]
+preset = "sony_imx250mzr"
+[output]
+channels = ["DoLP"]
+)", "nomask.toml");
+  const std::string path = (std::filesystem::temp_directory_path() / "skypol-sensor-nomask.exr").string();
+  render::render_scene(scene, path);
+  const render::Stack stack = render::read_stack(path);
+  std::filesystem::remove(path);
+  const render::Frame& f = stack.frames.at(0);
+  CHECK_FALSE(f.has("mask"));
+  const std::vector<float>& dolp = f.channel("DoLP.Y");
+  // The first and last rows lie outside the image circle: no dark-noise "polarization" there.
+  const auto w = static_cast<std::size_t>(f.width);
+  CHECK(std::count(dolp.begin(), dolp.begin() + static_cast<long>(w), 0.0f) == static_cast<long>(w));
+  CHECK(std::count(dolp.end() - static_cast<long>(w), dolp.end(), 0.0f) == static_cast<long>(w));
+  const auto centre = static_cast<std::size_t>(f.height / 2 * f.width + f.width / 2);
+  CHECK(dolp[centre] > 0.05f);  // the sky at the zenith is polarized
 }
