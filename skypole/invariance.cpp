@@ -10,6 +10,9 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "sky/sun.h"
+#include "skypole/invariance_refine.h"
+
 namespace skypol::skypole {
 namespace {
 
@@ -46,177 +49,23 @@ Eigen::MatrixXd residual_projector(const std::vector<double>& tau, bool linear) 
   return Eigen::MatrixXd::Identity(n, n) - x * xtx.ldlt().solve(x.transpose());
 }
 
-// Tangent basis at c.
-void basis(const Eigen::Vector3d& c, Eigen::Vector3d& e1, Eigen::Vector3d& e2) {
-  e1 = c.unitOrthogonal();
-  e2 = c.cross(e1);
-}
-
-// Angular size of one pixel at direction d (radians).
-double pixel_angle(const SkyImages& sky, const Eigen::Vector3d& d) {
-  const auto px = sky.lens->project(d);
-  if (!px) return 1e-3;
-  const auto a = sky.lens->ray(*px), b = sky.lens->ray(*px + Eigen::Vector2d(1, 0));
-  const auto c = sky.lens->ray(*px - Eigen::Vector2d(1, 0));
-  if (a && b) return std::atan2(a->cross(*b).norm(), a->dot(*b));
-  if (a && c) return std::atan2(a->cross(*c).norm(), a->dot(*c));
-  return 1e-3;
-}
-
-// The local model of each frame's DoLP in tangent-plane coordinates u: a full cubic. Near the
-// equinox DoLP is stationary at the pole in space and time (the pole lies on every frame's
-// maximum-DoLP circle), V grows only as |u|⁴, and a quadratic model's neglected cubic terms would
-// move the minimum by a few tenths of a degree.
-constexpr int kTerms = 10;
-using Basis = Eigen::Matrix<double, kTerms, 1>;
-using BasisJacobian = Eigen::Matrix<double, kTerms, 2>;
-
-Basis phi_of(const Eigen::Vector2d& u) {
-  const double x = u(0), y = u(1);
-  Basis p;
-  p << 1, x, y, x * x, x * y, y * y, x * x * x, x * x * y, x * y * y, y * y * y;
-  return p;
-}
-
-BasisJacobian jac_of(const Eigen::Vector2d& u) {
-  const double x = u(0), y = u(1);
-  BasisJacobian j;
-  j << 0, 0, 1, 0, 0, 1, 2 * x, 0, y, x, 0, 2 * y, 3 * x * x, 0, 2 * x * y, x * x, y * y, 2 * x * y,
-      0, 3 * y * y;
-  return j;
-}
-
-struct SubPixel {
-  bool ok = false;
-  std::string why;
-  Eigen::Vector3d d;
-  double v = 0;
-  double sigma_rad = 0;
-};
-
-// Step 4 of invariance.h around c.
-SubPixel quadratic_refine(const SkyImages& sky, const Eigen::MatrixXd& h, Eigen::Vector3d c,
-                          double radius_px) {
-  SubPixel out;
-  const std::size_t nf = sky.frames();
-  const auto nfi = static_cast<Eigen::Index>(nf);
-  for (int recentre = 0; recentre < 4; ++recentre) {
-    const auto cpx = sky.lens->project(c);
-    if (!cpx) {
-      out.why = "the minimum lies outside what the lens images (pole outside the field of view)";
-      return out;
-    }
-    Eigen::Vector3d e1, e2;
-    basis(c, e1, e2);
-    const int r = static_cast<int>(std::ceil(radius_px));
-    const int x0 = static_cast<int>(std::lround(cpx->x())), y0 = static_cast<int>(std::lround(cpx->y()));
-    std::vector<Basis> rows;
-    std::vector<std::size_t> idx;
-    bool complete = true;
-    double umax = 0;
-    for (int dy = -r; dy <= r; ++dy)
-      for (int dx = -r; dx <= r; ++dx) {
-        if (dx * dx + dy * dy > radius_px * radius_px) continue;
-        const int x = x0 + dx, y = y0 + dy;
-        if (x < 0 || y < 0 || x >= sky.width || y >= sky.height) {
-          complete = false;
-          continue;
-        }
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
-                              static_cast<std::size_t>(x);
-        if (!sky.valid[i]) {
-          complete = false;
-          continue;
-        }
-        const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
-        const double u1 = d.dot(e1) / d.dot(c), u2 = d.dot(e2) / d.dot(c);
-        rows.push_back(phi_of(Eigen::Vector2d(u1, u2)));
-        idx.push_back(i);
-        umax = std::max(umax, std::hypot(u1, u2));
-      }
-    if (!complete) {
-      out.why = "the minimum of DoLP variance is at the edge of the usable image (image circle, "
-                "mask or horizon): the pole is probably outside the field of view";
-      return out;
-    }
-    const auto m = static_cast<Eigen::Index>(rows.size());
-    if (m < 2 * kTerms) {
-      out.why = "too few pixels around the minimum for the sub-pixel fit";
-      return out;
-    }
-    Eigen::MatrixXd a(m, kTerms), y(m, nfi);
-    for (Eigen::Index k = 0; k < m; ++k) {
-      a.row(k) = rows[static_cast<std::size_t>(k)].transpose();
-      for (std::size_t t = 0; t < nf; ++t)
-        y(k, static_cast<Eigen::Index>(t)) = sky.dolp[t][idx[static_cast<std::size_t>(k)]];
-    }
-    // Θ (terms×N): each frame's cubic; then R(u) = H Θᵀ φ(u).
-    const Eigen::MatrixXd theta = a.colPivHouseholderQr().solve(y);
-    const Eigen::MatrixXd g = h * theta.transpose();  // N×terms
-    const auto cost_at = [&](const Eigen::Vector2d& uu) {
-      const Basis p = phi_of(uu);
-      const Eigen::VectorXd res = g * p;
-      return res.squaredNorm();
-    };
-    // V of the local model is a polynomial with a very flat bottom near the equinox: start the
-    // Levenberg–Marquardt iterations from the best node of a grid over the window.
-    Eigen::Vector2d u = Eigen::Vector2d::Zero();
-    double f = cost_at(u);
-    constexpr int kGrid = 60;
-    for (int j = -kGrid; j <= kGrid; ++j)
-      for (int i = -kGrid; i <= kGrid; ++i) {
-        const Eigen::Vector2d uu(umax * i / kGrid, umax * j / kGrid);
-        if (uu.norm() > umax) continue;
-        const double fu = cost_at(uu);
-        if (fu < f) {
-          f = fu;
-          u = uu;
-        }
-      }
-    double lambda = 1e-3;
-    for (int it = 0; it < 200; ++it) {
-      const Basis p = phi_of(u);
-      const BasisJacobian dp = jac_of(u);
-      const Eigen::VectorXd res = g * p;
-      const Eigen::MatrixXd jac = g * dp;
-      const Eigen::Matrix2d jtj = jac.transpose() * jac;
-      const Eigen::Vector2d grad = jac.transpose() * res;
-      Eigen::Matrix2d damped = jtj;
-      damped.diagonal() *= 1 + lambda;
-      damped.diagonal().array() += 1e-30;
-      const Eigen::Vector2d step = -damped.ldlt().solve(grad);
-      const Eigen::Vector2d un = u + step;
-      const double fn = cost_at(un);
-      if (fn < f) {
-        u = un;
-        f = fn;
-        lambda = std::max(lambda * 0.3, 1e-12);
-        if (step.norm() < 1e-12) break;
-      } else {
-        lambda *= 10;
-        if (lambda > 1e12) break;
-      }
-    }
-    const Eigen::Vector3d d = (c + u(0) * e1 + u(1) * e2).normalized();
-    if (u.norm() > 0.5 * umax) {  // left the well-fitted part of the window: re-centre there
-      c = d;
-      continue;
-    }
-    out.ok = true;
-    out.d = d;
-    out.v = f / static_cast<double>(nf);
-    const BasisJacobian dp = jac_of(u);
-    const Eigen::MatrixXd jac = g * dp;
-    const Eigen::Matrix2d jtj = jac.transpose() * jac;
-    const double dof = std::max(1.0, static_cast<double>(nf) - 2.0);
-    const double s2 = f / dof;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(jtj);
-    const double lmin = es.eigenvalues()(0);
-    out.sigma_rad = lmin > 0 ? std::sqrt(s2 / lmin) : kPi;
-    return out;
+// The sun's motion since the middle instant, from the frames' times (ERFA; the changes of hour
+// angle and declination do not depend on the site), and the first sun the images show.
+SunMotion sun_motion(const render::Stack& stack, const std::vector<std::optional<Eigen::Vector3d>>& suns,
+                     bool drift) {
+  SunMotion m;
+  const sky::Instant mid{0.5 * (stack.frames.front().truth.time.unix_seconds +
+                                stack.frames.back().truth.time.unix_seconds)};
+  const sky::Sun at_mid = sky::sun_position(sky::Site{}, mid);
+  for (const auto& frame : stack.frames) {
+    const sky::Sun s = sky::sun_position(sky::Site{}, frame.truth.time);
+    m.hour_angle_change.push_back(std::remainder(s.hour_angle - at_mid.hour_angle, 2 * kPi));
+    m.declination_change.push_back(s.declination - at_mid.declination);
   }
-  out.why = "the sub-pixel fit did not settle (no clear minimum of DoLP variance)";
-  return out;
+  if (!drift) m.declination_change.clear();
+  for (std::size_t t = 0; t < suns.size() && !m.sun_in_frame; ++t)
+    if (suns[t]) m.sun_in_frame = std::make_pair(t, *suns[t]);
+  return m;
 }
 
 }  // namespace
@@ -234,6 +83,23 @@ std::string_view detrend_name(Detrend d) {
     case Detrend::none: return "none";
     case Detrend::linear: return "linear";
     case Detrend::automatic: return "automatic";
+  }
+  return "?";
+}
+
+Refine parse_refine(std::string_view name) {
+  if (name == "per_frame") return Refine::per_frame;
+  if (name == "corotating") return Refine::corotating;
+  if (name == "automatic" || name == "auto") return Refine::automatic;
+  throw std::invalid_argument("unknown refine \"" + std::string(name) +
+                              "\" (expected one of per_frame, corotating, automatic)");
+}
+
+std::string_view refine_name(Refine r) {
+  switch (r) {
+    case Refine::per_frame: return "per_frame";
+    case Refine::corotating: return "corotating";
+    case Refine::automatic: return "automatic";
   }
   return "?";
 }
@@ -305,7 +171,7 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
     const double stop = 0.25 * pixel_angle(sky, c);
     for (int it = 0; it < 200 && s > stop; ++it) {
       Eigen::Vector3d e1, e2;
-      basis(c, e1, e2);
+      tangent_basis(c, e1, e2);
       Eigen::Vector3d nb = c;
       double vb = vc;
       for (int j = -2; j <= 2; ++j)
@@ -332,17 +198,29 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
     }
   }
 
-  const SubPixel sp = quadratic_refine(sky, cost.h, best_d, fit_radius);
+  const std::vector<std::optional<Eigen::Vector3d>> suns = find_suns(sky, filtered);
+  result.corotating = params.refine == Refine::corotating ||
+                      (params.refine == Refine::automatic && sky.times_known);
+  if (result.corotating && !sky.times_known)
+    throw std::invalid_argument("invariance: the co-rotating refinement needs frames taken at "
+                                "different times");
+  const SubPixel sp =
+      result.corotating
+          ? corotating_refine(sky, sun_motion(stack, suns, params.model_declination_drift), result.detrended, best_d,
+                              params.corotating_radius_deg, params.corotating_min_radius_deg,
+                              params.corotating_degree)
+          : per_frame_refine(sky, cost.h, best_d, fit_radius, params.per_frame_degree);
   if (!sp.ok) return fail(sp.why);
 
   // Which end: the minimum is above the horizon; the sun's rotation says if it is the NCP.
   const HemisphereDecision hemi =
-      decide_hemisphere(find_suns(sky, filtered), sp.d, params.input.hemisphere);
+      decide_hemisphere(suns, sp.d, params.input.hemisphere);
   if (!hemi.ok) return fail(hemi.why);
   result.estimate = make_estimate(method, sky, hemi.is_north ? sp.d : Eigen::Vector3d(-sp.d), params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + hemi.source;
   result.dolp_rms_at_pole = std::sqrt(sp.v);
+  result.window_deg = sp.window_rad / kDeg;
   result.estimate.residual_deg = sp.sigma_rad / kDeg;
   result.estimate.confidence =
       v_median > 0 ? std::clamp(1 - std::sqrt(std::max(0.0, sp.v) / v_median), 0.0, 1.0) : 0.0;

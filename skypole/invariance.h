@@ -15,11 +15,24 @@
 //     the best `candidates` separated minima;
 //  3. fine: each candidate refined by a shrinking 5×5 pattern search in its tangent plane down to
 //     a quarter pixel; the best wins;
-//  4. sub-pixel: around the winner each frame's (unfiltered) DoLP is fitted by a quadratic in
-//     gnomonic tangent-plane coordinates over the pixels within fit_radius_px, and V of these
-//     quadratics is minimised by Levenberg–Marquardt; re-centred if the minimum leaves the window.
+//  4. sub-pixel, by one of two local models around the winner (invariance_refine.h):
+//     corotating (default when the frames' times differ): the sky's pattern is fixed to the sun,
+//       which turns about the pole; so in the frame turning with it about the true pole EVERY
+//       direction's DoLP is invariant, not only the pole's. For a candidate pole P, each pixel's
+//       direction in frame t is turned back about P by the sun's hour-angle change since the
+//       middle instant (and along its hour circle by its declination change, both from the
+//       frames' times through ERFA, which need no site), and all frames' DoLP within
+//       corotating_radius_deg of P are fitted by ONE quartic of the turned tangent-plane
+//       coordinates; P minimises the variance left. One shared pattern averages the noise over
+//       every pixel and frame of a wide window, which the flat equinox minimum needs (V ∝ |u|⁴
+//       there: a few pixels of noisy DoLP cannot place it).
+//     per_frame (the only choice when all frames carry one time): each frame's DoLP within
+//       fit_radius_px fitted by its own cubic in gnomonic tangent-plane coordinates, and V of
+//       these polynomials minimised by Levenberg–Marquardt, re-centred if the minimum leaves the
+//       window. Exact on noise-free stacks; sensor noise moves it by degrees near the equinox.
 // Invalid when the fit window does not fit inside the usable image (pole at the edge of or
-// outside the field of view). residual_deg: 1-σ angular uncertainty from the curvature of V and
+// outside the field of view; the co-rotating window first shrinks, down to
+// corotating_min_radius_deg). residual_deg: 1-σ angular uncertainty from the curvature of V and
 // the residual scatter at the minimum; confidence: 1 − √(V_min / V_median) over the coarse lattice.
 #pragma once
 
@@ -32,16 +45,31 @@
 namespace skypol::skypole {
 
 enum class Detrend { none, linear, automatic };
+enum class Refine { per_frame, corotating, automatic };
 Detrend parse_detrend(std::string_view name);  // "none" | "linear" | "automatic"
 std::string_view detrend_name(Detrend d);
+Refine parse_refine(std::string_view name);  // "per_frame" | "corotating" | "automatic"
+std::string_view refine_name(Refine r);
 
 struct InvarianceParams {
   InputOptions input;
   std::optional<double> filter_radius_px;  // nullopt → default_filter_radius_px
   double coarse_step_deg = 2.0;
   int candidates = 3;
-  // Radius of the sub-pixel quadratic fit; nullopt → max(3, 1 % of the shorter side) pixels.
+  // Step 4: automatic = corotating when the frames were taken at different times, else per_frame.
+  Refine refine = Refine::automatic;
+  // per_frame: radius and degree of each frame's polynomial; nullopt → max(3, 1 % of the shorter
+  // side) pixels.
   std::optional<double> fit_radius_px;
+  int per_frame_degree = 3;
+  // corotating: the window's radius on the sky (shrunk to what the usable image holds around the
+  // minimum, down to the minimum radius) and the shared polynomial's degree.
+  double corotating_radius_deg = 15;
+  double corotating_min_radius_deg = 4;
+  int corotating_degree = 4;
+  // Turn the sun's declination drift (from the frames' times, oriented by the sun the images show)
+  // into the co-rotating model; off: a rigid turn about the pole.
+  bool model_declination_drift = true;
   // automatic: linear when the frames span ≥ auto_detrend_min_hours and there are ≥ 5 frames
   // (over a short window every direction's DoLP is nearly linear in time: detrending would erase
   // the signal).
@@ -53,6 +81,8 @@ struct InvarianceResult {
   PoleEstimate estimate;
   double dolp_rms_at_pole = 0;  // √V at the minimum (DoLP units)
   bool detrended = false;
+  bool corotating = false;  // which step 4 ran
+  double window_deg = 0;    // radius of step 4's window on the sky
 };
 
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
