@@ -1,5 +1,6 @@
 // `skypol estimate STACK`: north from a stack, scored against the truth in its headers.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -20,6 +21,10 @@ std::string number_or_null(const std::optional<double>& v, int decimals, bool si
   char buf[64];
   std::snprintf(buf, sizeof buf, sign ? "%+.*f" : "%.*f", decimals, *v);
   return buf;
+}
+
+std::string heading_or_null(const std::optional<double>& v, int decimals) {
+  return v ? skypole::format_heading(*v, decimals) : "null";
 }
 
 std::string json_string(const std::string& s) {
@@ -86,7 +91,7 @@ void print_json(const std::string& path, const render::Stack& stack, const skypo
   std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
               t.site.latitude_deg, s.latitude_error_deg);
   std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %.6f, \"bearing_error_deg\": %s,\n",
-              number_or_null(e.heading_deg, 6).c_str(), t.heading_deg, number_or_null(s.bearing_error_deg, 6).c_str());
+              heading_or_null(e.heading_deg, 6).c_str(), t.heading_deg, number_or_null(s.bearing_error_deg, 6).c_str());
   std::printf(" \"angular_error_deg\": %.6f, \"pole\": \"%s\", \"residual_deg\": %.6f, \"confidence\": %.4f,\n",
               s.angular_error_deg, e.is_north ? "north" : "south", e.residual_deg, e.confidence);
   std::printf(" \"note\": %s}", json_string(e.note).c_str());
@@ -98,7 +103,7 @@ void print_table(const render::Stack& stack, const skypole::PoleEstimate& e, con
   std::printf("%-24s %12s %12s %12s\n", "", "estimate", "truth", "error");
   std::printf("%-24s %12.3f %12.3f %+12.3f\n", "latitude (deg)", e.latitude_deg, t.site.latitude_deg,
               s.latitude_error_deg);
-  std::printf("%-24s %12s %12.3f %12s\n", "north bearing (deg)", number_or_null(e.heading_deg, 3).c_str(),
+  std::printf("%-24s %12s %12.3f %12s\n", "north bearing (deg)", heading_or_null(e.heading_deg, 3).c_str(),
               t.heading_deg, number_or_null(s.bearing_error_deg, 3, true).c_str());
   std::printf("%-24s %12s %12s %12.3f\n", "pole on the sphere (deg)", e.is_north ? "north" : "south",
               t.pole_is_north ? "north" : "south", s.angular_error_deg);

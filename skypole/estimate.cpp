@@ -2,6 +2,7 @@
 #include "skypole/estimate.h"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -34,6 +35,15 @@ double wrap180(double deg) {
   if (a > 180.0) a -= 360.0;
   if (a <= -180.0) a += 360.0;
   return a;
+}
+
+std::string format_heading(double deg, int decimals) {
+  const double unit = std::pow(10.0, decimals);
+  double r = wrap360(std::round(wrap360(deg) * unit) / unit);
+  if (r == 0) r = 0;  // no "-0.000"
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, r);
+  return buf;
 }
 
 double wrap360(double deg) {

@@ -109,5 +109,8 @@ Score score(const PoleEstimate& estimate, const render::Truth& truth);
 // Angle wrapped to (−180, 180] and to [0, 360), degrees.
 double wrap180(double deg);
 double wrap360(double deg);
+// A heading in [0, 360) with `decimals` decimals, rounded before it is wrapped: 359.9996 with 3
+// decimals is "0.000", never "360.000".
+std::string format_heading(double deg, int decimals);
 
 }  // namespace skypol::skypole

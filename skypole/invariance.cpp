@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -110,6 +111,12 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
   if (!(params.coarse_step_deg > 0.05 && params.coarse_step_deg <= 20))
     throw std::invalid_argument("invariance: coarse_step_deg must be in (0.05, 20], got " +
                                 std::to_string(params.coarse_step_deg));
+  if (params.per_frame_degree < 2 || params.per_frame_degree > 6 || params.corotating_degree < 2 ||
+      params.corotating_degree > 8)
+    throw std::invalid_argument("invariance: per_frame_degree must be in [2, 6] and corotating_degree in [2, 8]");
+  if (!(params.corotating_min_radius_deg > 0 && params.corotating_min_radius_deg <= params.corotating_radius_deg &&
+        params.corotating_radius_deg < 60))
+    throw std::invalid_argument("invariance: need 0 < corotating_min_radius_deg <= corotating_radius_deg < 60");
   const SkyImages sky = prepare_sky_images(stack, params.input, 3, method);
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
@@ -204,9 +211,11 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
   if (result.corotating && !sky.times_known)
     throw std::invalid_argument("invariance: the co-rotating refinement needs frames taken at "
                                 "different times");
+  const SunMotion motion = result.corotating ? sun_motion(stack, suns, params.model_declination_drift)
+                                             : SunMotion{};
   const SubPixel sp =
       result.corotating
-          ? corotating_refine(sky, sun_motion(stack, suns, params.model_declination_drift), result.detrended, best_d,
+          ? corotating_refine(sky, motion, result.detrended, best_d,
                               params.corotating_radius_deg, params.corotating_min_radius_deg,
                               params.corotating_degree)
           : per_frame_refine(sky, cost.h, best_d, fit_radius, params.per_frame_degree);
@@ -219,6 +228,12 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
   result.estimate = make_estimate(method, sky, hemi.is_north ? sp.d : Eigen::Vector3d(-sp.d), params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + hemi.source;
+  char window[96];
+  std::snprintf(window, sizeof window, "; sub-pixel: %s model over %.1f deg",
+                result.corotating ? "co-rotating" : "per-frame", sp.window_rad / kDeg);
+  result.estimate.note += window;
+  if (result.corotating && params.model_declination_drift && !motion.sun_in_frame)
+    result.estimate.note += "; the sun's declination drift is not modelled (no sun found in the images)";
   result.dolp_rms_at_pole = std::sqrt(sp.v);
   result.window_deg = sp.window_rad / kDeg;
   result.estimate.residual_deg = sp.sigma_rad / kDeg;

@@ -104,6 +104,10 @@ TEST_CASE("scores wrap the bearing error and see a wrong hemisphere", "[skypole]
   CHECK(skypole::wrap180(190) == Approx(-170));
   CHECK(skypole::wrap180(-180) == Approx(180));
   CHECK(skypole::wrap360(-10) == Approx(350));
+  CHECK(skypole::format_heading(359.9996, 3) == "0.000");
+  CHECK(skypole::format_heading(359.9994, 3) == "359.999");
+  CHECK(skypole::format_heading(-0.0001, 3) == "0.000");
+  CHECK(skypole::format_heading(-90, 1) == "270.0");
 }
 
 TEST_CASE("the masked disk filter averages only valid pixels", "[skypole]") {

@@ -146,3 +146,15 @@ TEST_CASE("time invariance refuses a pole outside the field of view", "[skypole]
   CHECK(e.why_invalid.find("field of view") != std::string::npos);
 }
 
+
+TEST_CASE("invariance refuses parameters out of range", "[skypole][invariance]") {
+  testing::SyntheticSpec spec = paper_spec(0);
+  spec.size = 64;
+  const render::Stack stack = testing::make_stack(spec);
+  skypole::InvarianceParams degree;
+  degree.corotating_degree = 9;
+  CHECK_THROWS_WITH(skypole::estimate_invariance(stack, degree), Catch::Contains("corotating_degree"));
+  skypole::InvarianceParams radius;
+  radius.corotating_min_radius_deg = 20;  // above the 15° radius
+  CHECK_THROWS_WITH(skypole::estimate_invariance(stack, radius), Catch::Contains("corotating_min_radius_deg"));
+}
