@@ -1,4 +1,5 @@
 """The text of docs/reproduction.md, from the numbers scripts/reproduce has read (render(r, g))."""
+import os
 import math
 
 
@@ -50,8 +51,10 @@ def render(r, g):
         "wrong (the ctest `cli/reproduce_small`).")
     if r["seconds"]:
         add(f"\nThis run took {r['seconds'] / 60:.1f} minutes of wall time and {r['cpu_seconds'] / 60:.1f} minutes of "
-            "CPU time (build and `skypol reproduce`; the machine's 2 cores were shared with other jobs, so the "
-            "CPU time is the better measure: on 2 free cores the wall time is about half of it).")
+            f"CPU time (build and `skypol reproduce`, on {os.cpu_count()} cores; 15-minute load average "
+            f"{os.getloadavg()[2]:.1f} when the report was drawn" +
+            (": other jobs shared the cores, so the CPU time is the better measure)." if os.getloadavg()[2] > os.cpu_count()
+             else ")."))
     add("\nPapers: Sun, Gao, Wang, Yang, Wang, *Improved Models of Imaging of Skylight Polarization Through "
         "a Fisheye Lens*, Sensors 19:4844 (2019) — “Sun et al.”; Kronland-Martinet et al., *SkyPole — A method "
         "for locating the north celestial pole from skylight polarization patterns*, PNAS 120(30) (2023) and "
@@ -336,11 +339,12 @@ def render(r, g):
     why_flat = ("near the equinox the pole lies on every frame's maximum-DoLP circle, so the DoLP variance over time "
                 "is flat around it (∝ distance⁴, `skypole/README.md`)")
     if "invariance" in missed:
-        add(f"\n`invariance` misses the noisy target: {why_flat} and sensor noise moves its minimum.")
+        text = f"\n`invariance` misses the noisy target: {why_flat} and sensor noise moves its minimum."
     else:
-        add(f"\n`invariance` reaches it although {why_flat}: its sub-pixel step fits one DoLP pattern, turned with the "
-            "sun about the candidate pole, to every pixel and frame of a 15° window (`skypole/invariance.h`); a "
-            "polynomial per frame over a few pixels (`refine = per_frame`) lets the noise move the minimum by degrees.")
+        text = (f"\n`invariance` reaches it although {why_flat}: its sub-pixel step fits one DoLP pattern, turned with "
+                "the sun about the candidate pole, to every pixel and frame of a 15° window (`skypole/invariance.h`); "
+                "a polynomial per frame over a few pixels (`refine = per_frame`) lets the noise move the minimum by "
+                "degrees.")
     others = [m for m in missed if m != "invariance"]
     if others:
         lead = f" {', '.join(f'`{m}`' for m in others)} miss the noisy target too; the others reach it on this simulated sky:"
@@ -348,7 +352,7 @@ def render(r, g):
         lead = " The others reach the targets on this simulated sky:"
     else:
         lead = " Every better estimator reaches the targets on this simulated sky:"
-    add(lead + " a real sky (next section) will cost them more than it costs the noise-free rows here.\n")
+    add(text + lead + " a real sky (next section) will cost them more than it costs the noise-free rows here.\n")
 
     add("## Left out, and why\n")
     add("- **Real skies.** Both papers compare against measurements (Sun et al.'s 3-CCD camera in Hefei, SkyPole's "
