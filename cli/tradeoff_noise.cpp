@@ -23,13 +23,16 @@ struct FrameNoise {
 };
 
 // What the sensor did to one frame: its DoLP against the noise-free twin's, and its raw mosaic's
-// clipped pixels (at the ADC's top or the full well's, whichever is lower), over the sky pixels.
+// clipped pixels (at the ADC's top or the full well's, whichever is lower), over the sky pixels
+// the sensor keeps.
 FrameNoise frame_noise(const camera::DofpSensor& sensor, const render::Frame& noisy, const render::Frame& clean) {
   const auto top = std::min((1 << sensor.adc_bits) - 1.0,
                             std::floor(sensor.black_level_dn + sensor.full_well_e * sensor.gain_dn_per_e));
   const auto& raw = noisy.channel("raw");
   const auto& dolp = noisy.channel("DoLP.Y");
-  const auto& mask = clean.channel("mask");
+  // The sensor's own mask: the clean one eroded by the pixel ring where the demosaic mixes in the
+  // darkness beyond the image circle (render/sensor_stage.h), which a camera pipeline drops too.
+  const auto& mask = noisy.channel("mask");
   const auto& truth = clean.channel("DoLP.Y");
   double ss = 0;
   int n = 0, clipped = 0;
