@@ -1,5 +1,6 @@
 // The paper's SkyPole algorithm (steps in classic.h).
 #include "skypole/classic.h"
+#include "skypole/enum_names.h"
 
 #include <algorithm>
 #include <chrono>
@@ -81,16 +82,13 @@ float difference_noise(const std::vector<float>& fa, const std::vector<float>& f
 
 }  // namespace
 
-ThresholdMode parse_threshold_mode(std::string_view name) {
-  if (name == "absolute") return ThresholdMode::absolute;
-  if (name == "relative") return ThresholdMode::relative;
-  throw std::invalid_argument("unknown threshold mode \"" + std::string(name) +
-                              "\" (expected one of absolute, relative)");
-}
+constexpr EnumNames<ThresholdMode, 2> kThresholdModeNames{
+    {{ThresholdMode::absolute, "absolute"}, {ThresholdMode::relative, "relative"}}};
 
-std::string_view threshold_mode_name(ThresholdMode m) {
-  return m == ThresholdMode::absolute ? "absolute" : "relative";
+ThresholdMode parse_threshold_mode(std::string_view name) {
+  return enum_from_name(kThresholdModeNames, name, "threshold mode");
 }
+std::string_view threshold_mode_name(ThresholdMode m) { return enum_name(kThresholdModeNames, m); }
 
 ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& params) {
   const auto t_start = std::chrono::steady_clock::now();

@@ -1,5 +1,6 @@
 // Scoring and the small conversions of estimate.h.
 #include "skypole/estimate.h"
+#include "skypole/enum_names.h"
 
 #include <cmath>
 #include <cstdio>
@@ -13,22 +14,13 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 }
 
-Hemisphere parse_hemisphere(std::string_view name) {
-  if (name == "automatic" || name == "auto") return Hemisphere::automatic;
-  if (name == "north") return Hemisphere::north;
-  if (name == "south") return Hemisphere::south;
-  throw std::invalid_argument("unknown hemisphere \"" + std::string(name) +
-                              "\" (expected one of automatic, north, south)");
-}
+constexpr EnumNames<Hemisphere, 3> kHemisphereNames{
+    {{Hemisphere::automatic, "automatic"}, {Hemisphere::north, "north"}, {Hemisphere::south, "south"}}};
 
-std::string_view hemisphere_name(Hemisphere h) {
-  switch (h) {
-    case Hemisphere::automatic: return "automatic";
-    case Hemisphere::north: return "north";
-    case Hemisphere::south: return "south";
-  }
-  return "?";
+Hemisphere parse_hemisphere(std::string_view name) {
+  return enum_from_name(kHemisphereNames, name, "hemisphere");
 }
+std::string_view hemisphere_name(Hemisphere h) { return enum_name(kHemisphereNames, h); }
 
 double wrap180(double deg) {
   double a = std::fmod(deg, 360.0);

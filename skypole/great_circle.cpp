@@ -1,5 +1,6 @@
 // Great circles of equal DoLP → the pole (method and reasoning in great_circle.h).
 #include "skypole/great_circle.h"
+#include "skypole/enum_names.h"
 
 #include <algorithm>
 #include <array>
@@ -268,22 +269,13 @@ double normal_span_deg(const std::vector<Eigen::Vector3d>& n, const std::vector<
 
 }  // namespace
 
-DriftModel parse_drift_model(std::string_view name) {
-  if (name == "none") return DriftModel::none;
-  if (name == "fit") return DriftModel::fit;
-  if (name == "automatic" || name == "auto") return DriftModel::automatic;
-  throw std::invalid_argument("unknown drift model \"" + std::string(name) +
-                              "\" (expected one of none, fit, automatic)");
-}
+constexpr EnumNames<DriftModel, 3> kDriftModelNames{
+    {{DriftModel::none, "none"}, {DriftModel::fit, "fit"}, {DriftModel::automatic, "automatic"}}};
 
-std::string_view drift_model_name(DriftModel m) {
-  switch (m) {
-    case DriftModel::none: return "none";
-    case DriftModel::fit: return "fit";
-    case DriftModel::automatic: return "automatic";
-  }
-  return "?";
+DriftModel parse_drift_model(std::string_view name) {
+  return enum_from_name(kDriftModelNames, name, "drift model");
 }
+std::string_view drift_model_name(DriftModel m) { return enum_name(kDriftModelNames, m); }
 
 GreatCircleResult estimate_great_circle(const render::Stack& stack, const GreatCircleParams& params) {
   const auto t_start = std::chrono::steady_clock::now();

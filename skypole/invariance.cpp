@@ -1,5 +1,6 @@
 // Minimum of DoLP's variance over time on the sphere (method in invariance.h).
 #include "skypole/invariance.h"
+#include "skypole/enum_names.h"
 
 #include <algorithm>
 #include <chrono>
@@ -71,39 +72,15 @@ SunMotion sun_motion(const render::Stack& stack, const std::vector<std::optional
 
 }  // namespace
 
-Detrend parse_detrend(std::string_view name) {
-  if (name == "none") return Detrend::none;
-  if (name == "linear") return Detrend::linear;
-  if (name == "automatic" || name == "auto") return Detrend::automatic;
-  throw std::invalid_argument("unknown detrend \"" + std::string(name) +
-                              "\" (expected one of none, linear, automatic)");
-}
+constexpr EnumNames<Detrend, 3> kDetrendNames{
+    {{Detrend::none, "none"}, {Detrend::linear, "linear"}, {Detrend::automatic, "automatic"}}};
+constexpr EnumNames<Refine, 3> kRefineNames{
+    {{Refine::per_frame, "per_frame"}, {Refine::corotating, "corotating"}, {Refine::automatic, "automatic"}}};
 
-std::string_view detrend_name(Detrend d) {
-  switch (d) {
-    case Detrend::none: return "none";
-    case Detrend::linear: return "linear";
-    case Detrend::automatic: return "automatic";
-  }
-  return "?";
-}
-
-Refine parse_refine(std::string_view name) {
-  if (name == "per_frame") return Refine::per_frame;
-  if (name == "corotating") return Refine::corotating;
-  if (name == "automatic" || name == "auto") return Refine::automatic;
-  throw std::invalid_argument("unknown refine \"" + std::string(name) +
-                              "\" (expected one of per_frame, corotating, automatic)");
-}
-
-std::string_view refine_name(Refine r) {
-  switch (r) {
-    case Refine::per_frame: return "per_frame";
-    case Refine::corotating: return "corotating";
-    case Refine::automatic: return "automatic";
-  }
-  return "?";
-}
+Detrend parse_detrend(std::string_view name) { return enum_from_name(kDetrendNames, name, "detrend"); }
+std::string_view detrend_name(Detrend d) { return enum_name(kDetrendNames, d); }
+Refine parse_refine(std::string_view name) { return enum_from_name(kRefineNames, name, "refine"); }
+std::string_view refine_name(Refine r) { return enum_name(kRefineNames, r); }
 
 InvarianceResult estimate_invariance(const render::Stack& stack, const InvarianceParams& params) {
   const auto t_start = std::chrono::steady_clock::now();

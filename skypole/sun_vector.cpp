@@ -1,5 +1,6 @@
 // Sun from AoLP, pole from the sun's path or from the ephemeris (sun_vector.h).
 #include "skypole/sun_vector.h"
+#include "skypole/enum_names.h"
 
 #include <chrono>
 #include <cmath>
@@ -19,25 +20,16 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 }  // namespace
 
+constexpr EnumNames<PoleFromSun, 2> kPoleFromSunNames{
+    {{PoleFromSun::circle, "circle"}, {PoleFromSun::ephemeris, "ephemeris"}}};
+constexpr EnumNames<SunSource, 2> kSunSourceNames{{{SunSource::aolp, "aolp"}, {SunSource::dolp, "dolp"}}};
+
 PoleFromSun parse_pole_from_sun(std::string_view name) {
-  if (name == "circle") return PoleFromSun::circle;
-  if (name == "ephemeris") return PoleFromSun::ephemeris;
-  throw std::invalid_argument("unknown sun-vector mode \"" + std::string(name) +
-                              "\" (expected one of circle, ephemeris)");
+  return enum_from_name(kPoleFromSunNames, name, "sun-vector mode");
 }
-
-std::string_view pole_from_sun_name(PoleFromSun m) {
-  return m == PoleFromSun::circle ? "circle" : "ephemeris";
-}
-
-SunSource parse_sun_source(std::string_view name) {
-  if (name == "aolp") return SunSource::aolp;
-  if (name == "dolp") return SunSource::dolp;
-  throw std::invalid_argument("unknown sun source \"" + std::string(name) +
-                              "\" (expected one of aolp, dolp)");
-}
-
-std::string_view sun_source_name(SunSource s) { return s == SunSource::aolp ? "aolp" : "dolp"; }
+std::string_view pole_from_sun_name(PoleFromSun m) { return enum_name(kPoleFromSunNames, m); }
+SunSource parse_sun_source(std::string_view name) { return enum_from_name(kSunSourceNames, name, "sun source"); }
+std::string_view sun_source_name(SunSource s) { return enum_name(kSunSourceNames, s); }
 
 std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const Eigen::Vector3d& start, double* pmax,

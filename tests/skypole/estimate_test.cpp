@@ -7,7 +7,11 @@
 #include <Eigen/Geometry>
 
 #include "camera/orientation.h"
+#include "skypole/classic.h"
 #include "skypole/estimate.h"
+#include "skypole/great_circle.h"
+#include "skypole/invariance.h"
+#include "skypole/sun_vector.h"
 #include "skypole/sky_images.h"
 #include "synthetic_stack.h"
 
@@ -121,4 +125,22 @@ TEST_CASE("the masked disk filter averages only valid pixels", "[skypole]") {
     if (sky.valid[i]) REQUIRE(out[i] == Approx(7.0f));
   CHECK(skypole::default_filter_radius_px(256, 256) == 1.0);
   CHECK(skypole::default_filter_radius_px(1224, 1024) == 5.0);
+}
+
+TEST_CASE("option names round-trip and bad names list the legal ones", "[skypole]") {
+  using namespace skypol::skypole;
+  for (const auto h : {Hemisphere::automatic, Hemisphere::north, Hemisphere::south})
+    CHECK(parse_hemisphere(hemisphere_name(h)) == h);
+  for (const auto r : {Refine::per_frame, Refine::corotating, Refine::automatic})
+    CHECK(parse_refine(refine_name(r)) == r);
+  for (const auto d : {DriftModel::none, DriftModel::fit, DriftModel::automatic})
+    CHECK(parse_drift_model(drift_model_name(d)) == d);
+  CHECK(parse_threshold_mode(threshold_mode_name(ThresholdMode::relative)) == ThresholdMode::relative);
+  CHECK(parse_sun_source(sun_source_name(SunSource::dolp)) == SunSource::dolp);
+  CHECK(parse_pole_from_sun(pole_from_sun_name(PoleFromSun::ephemeris)) == PoleFromSun::ephemeris);
+  CHECK(parse_detrend("auto") == Detrend::automatic);
+  CHECK(detrend_name(Detrend::linear) == "linear");
+  CHECK_THROWS_WITH(parse_hemisphere("west"),
+                    "unknown hemisphere \"west\" (expected one of automatic, north, south)");
+  CHECK_THROWS_WITH(parse_sun_source("auto"), Catch::Contains("expected one of aolp, dolp"));
 }
