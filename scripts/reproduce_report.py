@@ -306,12 +306,11 @@ def render(r, g):
         f"{g['TARGET']}° with every heading valid: " + "; ".join(found) + ". For comparison the classic "
         f"algorithm needs the whole day ({st['day_first'][11:16]}–{st['day_last'][11:16]} UTC, "
         f"{int(P[('day', True, int(st['day_frames']), 'classic')]['window'] / 60)} hours) in the table above.\n")
-    add("Where a longer window is worse than a shorter one, it is because the estimator changes its model "
-        "there: `sun_vector` and `sun_dolp` (and `invariance`'s linear trend) switch on their linear declination-drift term "
-        "automatically for windows of 4 hours or more (`auto_detrend_min_hours`); over a 4-hour arc that extra "
-        "unknown is nearly collinear with the pole's position and amplifies the noise, while over the whole day it "
-        "is well determined (turning the term off for the 4-hour window brings `sun_vector` and `sun_dolp` back to "
-        "≈ 0.09° bearing and ≈ 0.02° latitude — measured by hand on 6 of the headings, not part of this report).\n")
+    add("`sun_vector` and `sun_dolp` fit a linear declination drift only for windows of 7 hours or more "
+        "(`auto_detrend_min_hours`, `skypole/sun_vector.h`, which records the measurement behind it): over a shorter "
+        "arc that extra unknown is nearly collinear with the pole's position and amplifies the noise more than the "
+        "drift it removes; `invariance` turns the drift into its co-rotating model at every window length and adds a "
+        "linear trend from 4 hours.\n")
 
     # ---------------------------------------------------------------------------------------------
     add("## Issue 6's accuracy targets: what is reached\n")
