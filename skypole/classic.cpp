@@ -1,6 +1,5 @@
 // The paper's SkyPole algorithm (steps in classic.h).
 #include "skypole/classic.h"
-#include "skypole/enum_names.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,6 +9,8 @@
 
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
+
+#include "skypole/enum_names.h"
 
 namespace skypol::skypole {
 namespace {

@@ -1,6 +1,5 @@
 // Scoring and the small conversions of estimate.h.
 #include "skypole/estimate.h"
-#include "skypole/enum_names.h"
 
 #include <cmath>
 #include <cstdio>
@@ -8,6 +7,8 @@
 #include <stdexcept>
 
 #include <Eigen/Geometry>
+
+#include "skypole/enum_names.h"
 
 namespace skypol::skypole {
 namespace {

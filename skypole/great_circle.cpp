@@ -1,6 +1,5 @@
 // Great circles of equal DoLP → the pole (method and reasoning in great_circle.h).
 #include "skypole/great_circle.h"
-#include "skypole/enum_names.h"
 
 #include <algorithm>
 #include <array>
@@ -12,6 +11,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
+
+#include "skypole/enum_names.h"
 
 namespace skypol::skypole {
 namespace {

@@ -1,6 +1,5 @@
 // Minimum of DoLP's variance over time on the sphere (method in invariance.h).
 #include "skypole/invariance.h"
-#include "skypole/enum_names.h"
 
 #include <algorithm>
 #include <chrono>
@@ -13,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "sky/sun.h"
+#include "skypole/enum_names.h"
 #include "skypole/invariance_refine.h"
 
 namespace skypol::skypole {

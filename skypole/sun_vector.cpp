@@ -1,6 +1,5 @@
 // Sun from AoLP, pole from the sun's path or from the ephemeris (sun_vector.h).
 #include "skypole/sun_vector.h"
-#include "skypole/enum_names.h"
 
 #include <chrono>
 #include <cmath>
@@ -13,6 +12,7 @@
 
 #include "camera/camera.h"
 #include "sky/sun.h"
+#include "skypole/enum_names.h"
 
 namespace skypol::skypole {
 namespace {
