@@ -20,6 +20,9 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
+// The other sense of rotation must fit at least this much worse for the co-rotating fit to say
+// which pole it found.
+constexpr double kMinSenseContrast = 2.0;
 
 struct Cost {
   const SkyImages& sky;
@@ -52,7 +55,7 @@ Eigen::MatrixXd residual_projector(const std::vector<double>& tau, bool linear) 
 }
 
 // The sun's motion since the middle instant, from the frames' times (ERFA; the changes of hour
-// angle and declination do not depend on the site), and the first sun the images show.
+// angle and declination do not depend on the site), and the suns the images show.
 SunMotion sun_motion(const render::Stack& stack, const std::vector<std::optional<Eigen::Vector3d>>& suns,
                      bool drift) {
   SunMotion m;
@@ -65,8 +68,8 @@ SunMotion sun_motion(const render::Stack& stack, const std::vector<std::optional
     m.declination_change.push_back(s.declination - at_mid.declination);
   }
   if (!drift) m.declination_change.clear();
-  for (std::size_t t = 0; t < suns.size() && !m.sun_in_frame; ++t)
-    if (suns[t]) m.sun_in_frame = std::make_pair(t, *suns[t]);
+  for (std::size_t t = 0; t < suns.size(); ++t)
+    if (suns[t]) m.suns_in_frames.emplace_back(t, *suns[t]);
   return m;
 }
 
@@ -199,8 +202,14 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
   if (!sp.ok) return fail(sp.why);
 
   // Which end: the minimum is above the horizon; the sun's rotation says if it is the NCP.
-  const HemisphereDecision hemi =
-      decide_hemisphere(suns, sp.d, params.input.hemisphere);
+  HemisphereDecision hemi = decide_hemisphere(suns, sp.d, params.input.hemisphere);
+  if (!hemi.ok && sp.sense != 0 && sp.sense_contrast >= kMinSenseContrast) {
+    // The sun alone could not tell (too few suns in view, or too little motion between them):
+    // the co-rotating fit saw the whole pattern turn, clockwise about the NCP.
+    hemi.ok = true;
+    hemi.is_north = sp.sense < 0;
+    hemi.source = "the sense the sky's pattern turns in (co-rotating fit)";
+  }
   if (!hemi.ok) return fail(hemi.why);
   result.estimate = make_estimate(method, sky, hemi.is_north ? sp.d : Eigen::Vector3d(-sp.d), params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
@@ -209,10 +218,12 @@ InvarianceResult estimate_invariance(const render::Stack& stack, const Invarianc
   std::snprintf(window, sizeof window, "; sub-pixel: %s model over %.1f deg",
                 result.corotating ? "co-rotating" : "per-frame", sp.window_rad / kDeg);
   result.estimate.note += window;
-  if (result.corotating && params.model_declination_drift && !motion.sun_in_frame)
+  if (result.corotating && params.model_declination_drift && motion.suns_in_frames.empty())
     result.estimate.note += "; the sun's declination drift is not modelled (no sun found in the images)";
   result.dolp_rms_at_pole = std::sqrt(sp.v);
   result.window_deg = sp.window_rad / kDeg;
+  result.rotation_sense = sp.sense;
+  result.rotation_sense_contrast = sp.sense_contrast;
   result.estimate.residual_deg = sp.sigma_rad / kDeg;
   result.estimate.confidence =
       v_median > 0 ? std::clamp(1 - std::sqrt(std::max(0.0, sp.v) / v_median), 0.0, 1.0) : 0.0;

@@ -67,7 +67,7 @@ struct InvarianceParams {
   double corotating_radius_deg = 15;
   double corotating_min_radius_deg = 4;
   int corotating_degree = 4;
-  // Turn the sun's declination drift (from the frames' times, oriented by the sun the images show)
+  // Turn the sun's declination drift (from the frames' times, oriented by the suns the images show)
   // into the co-rotating model; off: a rigid turn about the pole.
   bool model_declination_drift = true;
   // automatic: linear when the frames span ≥ auto_detrend_min_hours and there are ≥ 5 frames
@@ -83,6 +83,11 @@ struct InvarianceResult {
   bool detrended = false;
   bool corotating = false;  // which step 4 ran
   double window_deg = 0;    // radius of step 4's window on the sky
+  // corotating: the sense the sky's pattern turns in about the minimum found (−1 clockwise by the
+  // right-hand rule about it: it is the NCP; +1: the SCP) and how much worse the other sense fits
+  // (≥ 1). Used for north/south when the suns in view cannot tell (contrast ≥ 2).
+  int rotation_sense = 0;
+  double rotation_sense_contrast = 0;
 };
 
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).

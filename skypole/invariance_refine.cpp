@@ -282,9 +282,10 @@ struct CorotatingFit {
   // the sun towards the NCP and away from the SCP, which `sign` also says.
   Eigen::Matrix3d turn_back(const Eigen::Vector3d& p, std::size_t t) const {
     const Eigen::Matrix3d spin(Eigen::AngleAxisd(-sign * motion.hour_angle_change[t], p));
-    if (!motion.sun_in_frame || motion.declination_change.empty()) return spin;
-    const auto& [k, s_k] = *motion.sun_in_frame;
-    const Eigen::Vector3d s_mid = Eigen::AngleAxisd(-sign * motion.hour_angle_change[k], p) * s_k;
+    if (motion.suns_in_frames.empty() || motion.declination_change.empty()) return spin;
+    Eigen::Vector3d s_mid = Eigen::Vector3d::Zero();
+    for (const auto& [k, s_k] : motion.suns_in_frames)
+      s_mid += Eigen::AngleAxisd(-sign * motion.hour_angle_change[k], p) * s_k;
     const Eigen::Vector3d a = p.cross(s_mid);
     if (a.norm() < 1e-9) return spin;
     return Eigen::Matrix3d(Eigen::AngleAxisd(-sign * motion.declination_change[t], a.normalized())) * spin;
@@ -396,6 +397,10 @@ SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool t
     out.why.clear();
     out.d = at(x);
     out.window_rad = win->radius_rad;
+    out.sense = fit.sign < 0 ? -1 : 1;
+    CorotatingFit other = fit;
+    other.sign = -fit.sign;
+    out.sense_contrast = f0 > 0 ? other.rss(out.d) / f0 : std::numeric_limits<double>::infinity();
     out.v = f0 / static_cast<double>(std::max<std::size_t>(1, rows));
     out.sigma_rad = sigma_from_curvature(
         hess, f0 / std::max(1.0, static_cast<double>(rows) - fit.poly.terms() - (trend ? 3.0 : 2.0)));

@@ -20,6 +20,11 @@ struct SubPixel {
   double v = 0;           // DoLP variance left there (DoLP² units)
   double sigma_rad = 0;   // 1-σ angular uncertainty
   double window_rad = 0;  // radius of the window fitted (corotating: after shrinking)
+  // corotating: the sense the sky turns in about d that fits (−1: clockwise by the right-hand
+  // rule, the NCP's sense; +1 the SCP's), and how much worse the other sense fits (ratio of the
+  // residual sums, ≥ 1); 0 / 0 for per_frame.
+  int sense = 0;
+  double sense_contrast = 0;
 };
 
 // Tangent basis (e1, e2) at the unit vector c.
@@ -38,12 +43,13 @@ SubPixel per_frame_refine(const SkyImages& sky, const Eigen::MatrixXd& h, Eigen:
 
 // What the co-rotating model knows of the sun's motion, per frame: the change of its hour angle
 // and of its declination since the middle instant (radians; from the frames' times, ERFA), and
-// the sun's direction in one frame (camera frame), which orients the declination drift; without
-// it the drift is not modelled.
+// the sun's direction in the frames that show it (frame index, camera frame), which orient the
+// declination drift: each is turned to the middle instant and their mean taken, so one badly
+// placed sun (on the horizon) cannot reverse it. Without any the drift is not modelled.
 struct SunMotion {
   std::vector<double> hour_angle_change;
   std::vector<double> declination_change;
-  std::optional<std::pair<std::size_t, Eigen::Vector3d>> sun_in_frame;
+  std::vector<std::pair<std::size_t, Eigen::Vector3d>> suns_in_frames;
 };
 
 // Co-rotating model: the sky's pattern is fixed to the sun, which turns about the pole. For a

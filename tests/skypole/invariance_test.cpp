@@ -49,6 +49,10 @@ TEST_CASE("time invariance finds the NCP over Marseille within 0.05 degrees", "[
                                        std::to_string(heading),
                                    &r);
       CHECK(r.corotating == (refine == skypole::Refine::automatic));
+      if (r.corotating) {
+        CHECK(r.rotation_sense == -1);  // the sky turns clockwise about the NCP
+        CHECK(r.rotation_sense_contrast > 10);
+      }
       REQUIRE(s.bearing_error_deg);
       CHECK(std::abs(*s.bearing_error_deg) < 0.05);
       CHECK(std::abs(s.latitude_error_deg) < 0.05);
@@ -90,6 +94,7 @@ TEST_CASE("time invariance in the southern hemisphere finds the SCP", "[skypole]
   skypole::InvarianceResult r;
   const skypole::Score s = run(stack, {}, "Sydney", &r);
   CHECK_FALSE(r.estimate.is_north);
+  CHECK(r.rotation_sense == 1);  // anticlockwise about the SCP
   CHECK(s.angular_error_deg < 0.1);
 }
 
@@ -157,4 +162,23 @@ TEST_CASE("invariance refuses parameters out of range", "[skypole][invariance]")
   skypole::InvarianceParams radius;
   radius.corotating_min_radius_deg = 20;  // above the 15° radius
   CHECK_THROWS_WITH(skypole::estimate_invariance(stack, radius), Catch::Contains("corotating_min_radius_deg"));
+}
+
+TEST_CASE("invariance tells north from the pattern's rotation when the sun cannot", "[skypole][invariance]") {
+  // Sunrise to 08:30 UTC (hard-sun-horizon.toml): the sun is on or near the horizon, where the
+  // images cannot place it, in most frames; the co-rotating fit still sees the sky turn.
+  testing::SyntheticSpec spec;
+  spec.times = {};
+  for (const char* t : {"2022-09-23T05:31:08Z", "2022-09-23T06:00:00Z", "2022-09-23T06:30:00Z",
+                        "2022-09-23T07:00:00Z", "2022-09-23T07:30:00Z", "2022-09-23T08:00:00Z",
+                        "2022-09-23T08:30:00Z"})
+    spec.times.push_back(sky::parse_iso8601(t));
+  spec.heading_deg = 20;
+  const render::Stack stack = testing::make_stack(spec);
+  skypole::InvarianceResult r;
+  const skypole::Score s = run(stack, {}, "sunrise", &r);
+  CHECK(r.estimate.is_north);
+  CHECK(s.angular_error_deg < 0.05);
+  INFO(r.estimate.note);
+  CHECK(r.estimate.note.find("hemisphere from") != std::string::npos);
 }
