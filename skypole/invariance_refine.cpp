@@ -236,7 +236,6 @@ std::optional<CorotatingWindow> corotating_window(const SkyImages& sky, const Ei
   const int b = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(inside.size()) /
                                                                  static_cast<double>(kMaxSamples)))));
   const std::size_t nf = sky.frames();
-  std::vector<int> block_of(inside.size());
   std::vector<std::pair<int, int>> keys;
   std::vector<std::size_t> order(inside.size());
   for (std::size_t k = 0; k < inside.size(); ++k) {
@@ -276,10 +275,11 @@ struct CorotatingFit {
   bool trend;
   double sign = 1;  // sense of the sky's turn about P: −1 when P is the NCP, +1 the SCP
 
-  // The rotation that takes frame t's sky back to the middle instant's, about pole p: R_t⁻¹ with
-  // R_t = spin(P, sign·ΔH_t) · tilt(a, sign·Δδ_t)... written as the inverse directly. The tilt
-  // axis a = P × s_mid moves the sun along its hour circle; a northward drift (Δδ > 0) brings
-  // the sun towards the NCP and away from the SCP, which `sign` also says.
+  // The rotation that takes frame t's sky back to the middle instant's, about pole p:
+  // tilt(a, −sign·Δδ_t) · spin(p, −sign·ΔH_t), undoing the turn about the pole and then the
+  // sun's step along its hour circle. The tilt axis a = p × s_mid (s_mid: the sun at the middle
+  // instant) moves the sun along that circle; a northward drift (Δδ > 0) brings it towards the
+  // NCP and away from the SCP, which `sign` also says.
   Eigen::Matrix3d turn_back(const Eigen::Vector3d& p, std::size_t t) const {
     const Eigen::Matrix3d spin(Eigen::AngleAxisd(-sign * motion.hour_angle_change[t], p));
     if (motion.suns_in_frames.empty() || motion.declination_change.empty()) return spin;
