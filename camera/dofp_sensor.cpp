@@ -7,7 +7,21 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace skypol::camera {
+
+namespace {
+// Rows in parallel: every pixel's value depends only on its own inputs and its (seed, frame,
+// pixel) noise key, so the output is the same bytes on any number of threads.
+template <class RowFn>
+void for_each_row(int height, RowFn&& row) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int r = rows.begin(); r != rows.end(); ++r) row(r);
+  });
+}
+}  // namespace
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180;
@@ -123,11 +137,12 @@ std::vector<std::uint16_t> simulate_raw(const DofpSensor& s, std::span<const flo
   if (s0.size() != n || s1.size() != n || s2.size() != n)
     throw std::invalid_argument("Stokes images must hold width*height values");
   std::vector<std::uint16_t> raw(n);
-  for (int r = 0; r < s.height; ++r)
+  for_each_row(s.height, [&](int r) {
     for (int c = 0; c < s.width; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.width) + c;
       raw[i] = simulate_pixel(s, r, c, s0[i], s1[i], s2[i], frame);
     }
+  });
   return raw;
 }
 
@@ -225,7 +240,7 @@ StokesPlanes demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> r
   out.s0.resize(n);
   out.s1.resize(n);
   out.s2.resize(n);
-  for (int r = 0; r < h; ++r)
+  for_each_row(h, [&](int r) {
     for (int c = 0; c < w; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c;
       if (mode == Demosaic::calibrated) {
@@ -245,6 +260,7 @@ StokesPlanes demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> r
       out.s1[i] = static_cast<float>(i0 - i90);
       out.s2[i] = static_cast<float>(i45 - i135);
     }
+  });
   return out;
 }
 
@@ -283,7 +299,7 @@ std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& s, const std::ar
     if (b.s0.size() != n || b.s1.size() != n || b.s2.size() != n)
       throw std::invalid_argument("Stokes images must hold width*height values");
   std::vector<std::uint16_t> raw(n);
-  for (int r = 0; r < s.height; ++r)
+  for_each_row(s.height, [&](int r) {
     for (int c = 0; c < s.width; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.width) + c;
       const auto b = static_cast<std::size_t>(band_of_pixel(s, r, c));
@@ -291,6 +307,7 @@ std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& s, const std::ar
       raw[i] = simulate_pixel(s, r, c, k * double{rgb[b].s0[i]}, k * double{rgb[b].s1[i]},
                               k * double{rgb[b].s2[i]}, frame);
     }
+  });
   return raw;
 }
 

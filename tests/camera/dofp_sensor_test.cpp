@@ -7,6 +7,8 @@
 #include <numbers>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "camera/dofp_sensor.h"
 
 using namespace skypol::camera;
@@ -179,6 +181,22 @@ TEST_CASE("noise is reproducible per (seed, frame, pixel), whatever the order of
   CHECK(a != simulate_raw(s, f.s0, f.s1, f.s2, 10));
   s.seed = 43;
   CHECK(a != simulate_raw(s, f.s0, f.s1, f.s2, 9));
+}
+
+TEST_CASE("raw frame and demosaic are the same bytes on one thread as on all", "[sensor]") {
+  DofpSensor s = clean(300, 200);  // more rows than one parallel chunk holds
+  s.shot_noise = true;
+  s.read_noise_e = 3;
+  s.seed = 7;
+  const Field f = uniform(s, 0.05f, 0.01f, 0.02f);
+  const auto parallel_raw = simulate_raw(s, f.s0, f.s1, f.s2, 3);
+  const StokesPlanes parallel_stokes = demosaic_bilinear(s, parallel_raw, Demosaic::nominal);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  CHECK(simulate_raw(s, f.s0, f.s1, f.s2, 3) == parallel_raw);
+  const StokesPlanes serial = demosaic_bilinear(s, parallel_raw, Demosaic::nominal);
+  CHECK(serial.s0 == parallel_stokes.s0);
+  CHECK(serial.s1 == parallel_stokes.s1);
+  CHECK(serial.s2 == parallel_stokes.s2);
 }
 
 TEST_CASE("bad sensor parameters are named", "[sensor]") {
