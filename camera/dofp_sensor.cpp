@@ -132,18 +132,24 @@ std::uint16_t simulate_pixel(const DofpSensor& s, int row, int col, double s0, d
 std::vector<std::uint16_t> simulate_raw(const DofpSensor& s, std::span<const float> s0,
                                         std::span<const float> s1, std::span<const float> s2,
                                         std::uint64_t frame) {
+  std::vector<std::uint16_t> raw;
+  simulate_raw_into(s, s0, s1, s2, frame, raw);
+  return raw;
+}
+
+void simulate_raw_into(const DofpSensor& s, std::span<const float> s0, std::span<const float> s1,
+                       std::span<const float> s2, std::uint64_t frame, std::vector<std::uint16_t>& raw) {
   validate(s);
   const auto n = static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height);
   if (s0.size() != n || s1.size() != n || s2.size() != n)
     throw std::invalid_argument("Stokes images must hold width*height values");
-  std::vector<std::uint16_t> raw(n);
+  raw.resize(n);
   for_each_row(s.height, [&](int r) {
     for (int c = 0; c < s.width; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.width) + c;
       raw[i] = simulate_pixel(s, r, c, s0[i], s1[i], s2[i], frame);
     }
   });
-  return raw;
 }
 
 namespace {
@@ -197,9 +203,9 @@ struct Lattice {
 // Stokes of one band from a raw mosaic. Mosaic position p's samples lie on the lattices
 // lattices[p] (one for a mono sensor or the R and B of a colour one, two for G); each lattice is
 // interpolated bilinearly (nearest row/column repeated beyond its edge) and the lattices averaged.
-StokesPlanes demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> raw, Demosaic mode,
-                           int period, const std::array<std::vector<Lattice>, 4>& lattices,
-                           double response) {
+void demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> raw, Demosaic mode,
+                   int period, const std::array<std::vector<Lattice>, 4>& lattices, double response,
+                   StokesPlanes& out) {
   const int w = s.width, h = s.height;
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
@@ -236,7 +242,6 @@ StokesPlanes demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> r
     return sum / static_cast<double>(lattices[static_cast<std::size_t>(p)].size());
   };
 
-  StokesPlanes out;
   out.s0.resize(n);
   out.s1.resize(n);
   out.s2.resize(n);
@@ -261,7 +266,6 @@ StokesPlanes demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> r
       out.s2[i] = static_cast<float>(i45 - i135);
     }
   });
-  return out;
 }
 
 // Colour blocks of an RGGB-of-2×2-blocks filter: (block row, block col) parities per band.
@@ -275,12 +279,19 @@ const std::array<std::vector<std::pair<int, int>>, 3> kBandBlocks = {{
 
 StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw,
                                Demosaic mode) {
+  StokesPlanes out;
+  demosaic_bilinear_into(s, raw, mode, out);
+  return out;
+}
+
+void demosaic_bilinear_into(const DofpSensor& s, std::span<const std::uint16_t> raw, Demosaic mode,
+                            StokesPlanes& out) {
   validate(s);
   if (s.color_filter != ColorFilter::none)
     throw std::invalid_argument("color_filter: a colour sensor needs demosaic_color_bilinear");
   std::array<std::vector<Lattice>, 4> lattices;
   for (int p = 0; p < 4; ++p) lattices[static_cast<std::size_t>(p)] = {Lattice{p >> 1, p & 1}};
-  return demosaic_core(s, raw, mode, 2, lattices, 1.0);
+  demosaic_core(s, raw, mode, 2, lattices, 1.0, out);
 }
 
 int band_of_pixel(const DofpSensor& s, int row, int col) {
@@ -291,6 +302,13 @@ int band_of_pixel(const DofpSensor& s, int row, int col) {
 
 std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& s, const std::array<BandStokes, 3>& rgb,
                                               std::uint64_t frame) {
+  std::vector<std::uint16_t> raw;
+  simulate_raw_color_into(s, rgb, frame, raw);
+  return raw;
+}
+
+void simulate_raw_color_into(const DofpSensor& s, const std::array<BandStokes, 3>& rgb,
+                             std::uint64_t frame, std::vector<std::uint16_t>& raw) {
   validate(s);
   if (s.color_filter == ColorFilter::none)
     throw std::invalid_argument("color_filter: simulate_raw_color needs a colour sensor (rggb_blocks)");
@@ -298,7 +316,7 @@ std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& s, const std::ar
   for (const auto& b : rgb)
     if (b.s0.size() != n || b.s1.size() != n || b.s2.size() != n)
       throw std::invalid_argument("Stokes images must hold width*height values");
-  std::vector<std::uint16_t> raw(n);
+  raw.resize(n);
   for_each_row(s.height, [&](int r) {
     for (int c = 0; c < s.width; ++c) {
       const std::size_t i = static_cast<std::size_t>(r) * static_cast<std::size_t>(s.width) + c;
@@ -308,25 +326,29 @@ std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& s, const std::ar
                               k * double{rgb[b].s2[i]}, frame);
     }
   });
-  return raw;
 }
 
 std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& s,
                                                     std::span<const std::uint16_t> raw,
                                                     Demosaic mode) {
+  std::array<StokesPlanes, 3> out;
+  demosaic_color_bilinear_into(s, raw, mode, out);
+  return out;
+}
+
+void demosaic_color_bilinear_into(const DofpSensor& s, std::span<const std::uint16_t> raw,
+                                  Demosaic mode, std::array<StokesPlanes, 3>& out) {
   validate(s);
   if (s.color_filter == ColorFilter::none)
     throw std::invalid_argument("color_filter: demosaic_color_bilinear needs a colour sensor (rggb_blocks)");
   if (s.width < 4 || s.height < 4) throw std::invalid_argument("a colour sensor needs width, height >= 4");
-  std::array<StokesPlanes, 3> out;
   for (std::size_t b = 0; b < 3; ++b) {
     std::array<std::vector<Lattice>, 4> lattices;
     for (int p = 0; p < 4; ++p)
       for (const auto& [by, bx] : kBandBlocks[b])
         lattices[static_cast<std::size_t>(p)].push_back(Lattice{2 * by + (p >> 1), 2 * bx + (p & 1)});
-    out[b] = demosaic_core(s, raw, mode, 4, lattices, s.band_response[b]);
+    demosaic_core(s, raw, mode, 4, lattices, s.band_response[b], out[b]);
   }
-  return out;
 }
 
 }  // namespace skypol::camera

@@ -68,6 +68,10 @@ std::uint16_t simulate_pixel(const DofpSensor& sensor, int row, int col, double 
 std::vector<std::uint16_t> simulate_raw(const DofpSensor& sensor, std::span<const float> s0,
                                         std::span<const float> s1, std::span<const float> s2,
                                         std::uint64_t frame);
+// The same into `raw`, which keeps its storage when it already holds width·height values (a
+// pipeline reusing its buffers frame after frame pays no allocation and no page faults).
+void simulate_raw_into(const DofpSensor& sensor, std::span<const float> s0, std::span<const float> s1,
+                       std::span<const float> s2, std::uint64_t frame, std::vector<std::uint16_t>& raw);
 
 // Stokes images recovered from a raw mosaic: DN → radiance (black level, mean dark signal, gain,
 // exposure undone), each polarizer channel interpolated bilinearly to every pixel, then
@@ -84,6 +88,9 @@ enum class Demosaic { nominal, calibrated };
 // Mono sensors only (color_filter none).
 StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
                                Demosaic mode = Demosaic::nominal);
+// The same into `out` (storage kept as for simulate_raw_into).
+void demosaic_bilinear_into(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
+                            Demosaic mode, StokesPlanes& out);
 
 // Colour sensors (color_filter rggb_blocks). band_of_pixel: 0 = R, 1 = G, 2 = B (−1 for mono).
 int band_of_pixel(const DofpSensor& sensor, int row, int col);
@@ -94,10 +101,14 @@ struct BandStokes {
 std::vector<std::uint16_t> simulate_raw_color(const DofpSensor& sensor,
                                               const std::array<BandStokes, 3>& rgb,
                                               std::uint64_t frame);
+void simulate_raw_color_into(const DofpSensor& sensor, const std::array<BandStokes, 3>& rgb,
+                             std::uint64_t frame, std::vector<std::uint16_t>& raw);
 // R, G, B Stokes images: per band and polarizer, bilinear on the band's 4-pixel lattice (G: the
 // mean of its two lattices), then as demosaic_bilinear.
 std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& sensor,
                                                     std::span<const std::uint16_t> raw,
                                                     Demosaic mode = Demosaic::nominal);
+void demosaic_color_bilinear_into(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
+                                  Demosaic mode, std::array<StokesPlanes, 3>& out);
 
 }  // namespace skypol::camera

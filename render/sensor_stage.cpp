@@ -8,6 +8,13 @@
 namespace skypol::render {
 namespace {
 
+// A band's S0–S2 channels as the demosaic's output planes: their storage is reused (moved out of
+// the frame and back by finish_band), so a frame the renderer reuses costs no allocation here.
+camera::StokesPlanes take_planes(const std::string& band, Frame& frame) {
+  return {std::move(frame.channel("S0." + band)), std::move(frame.channel("S1." + band)),
+          std::move(frame.channel("S2." + band))};
+}
+
 // Masked pixels hold zeros; the others get DoLP and AoLP from the measured Stokes.
 void finish_band(const std::string& band, const std::vector<float>* mask, camera::StokesPlanes&& measured,
                  Frame& frame) {
@@ -32,7 +39,8 @@ void finish_band(const std::string& band, const std::vector<float>* mask, camera
 }
 
 void erode_mask(std::vector<float>& mask, int w, int h) {
-  const std::vector<float> before = mask;
+  thread_local std::vector<float> before;  // reused frame after frame, as the raw buffer
+  before.assign(mask.begin(), mask.end());
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       bool whole = true;
@@ -67,13 +75,17 @@ void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& band
   // sky mixes in darkness, so it is masked too (the mask is eroded by one pixel).
   std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;
   if (mask) erode_mask(*mask, frame.width, frame.height);
+  // One raw buffer per thread, reused frame after frame (a stack's frames share one size).
+  thread_local std::vector<std::uint16_t> raw;
   if (d.color_filter == camera::ColorFilter::none) {
     if (bands.size() != 1) throw std::invalid_argument("sensor: a mono sensor records one band");
     const std::string& b = bands[0];
-    const std::vector<std::uint16_t> raw = camera::simulate_raw(d, frame.channel("S0." + b), frame.channel("S1." + b),
-                                                                frame.channel("S2." + b), frame_index);
-    finish_band(b, mask, camera::demosaic_bilinear(d, raw, sensor.demosaic), frame);
-    if (keep_raw) frame.channels["raw"] = std::vector<float>(raw.begin(), raw.end());
+    camera::simulate_raw_into(d, frame.channel("S0." + b), frame.channel("S1." + b), frame.channel("S2." + b),
+                              frame_index, raw);
+    camera::StokesPlanes planes = take_planes(b, frame);  // the raw frame no longer needs them
+    camera::demosaic_bilinear_into(d, raw, sensor.demosaic, planes);
+    finish_band(b, mask, std::move(planes), frame);
+    if (keep_raw) frame.channels["raw"].assign(raw.begin(), raw.end());
     return;
   }
   if (bands != std::vector<std::string>{"R", "G", "B"}) {
@@ -83,10 +95,12 @@ void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& band
   for (std::size_t i = 0; i < 3; ++i) {
     rgb[i] = {frame.channel("S0." + bands[i]), frame.channel("S1." + bands[i]), frame.channel("S2." + bands[i])};
   }
-  const std::vector<std::uint16_t> raw = camera::simulate_raw_color(d, rgb, frame_index);
-  std::array<camera::StokesPlanes, 3> measured = camera::demosaic_color_bilinear(d, raw, sensor.demosaic);
+  camera::simulate_raw_color_into(d, rgb, frame_index, raw);
+  std::array<camera::StokesPlanes, 3> measured;
+  for (std::size_t i = 0; i < 3; ++i) measured[i] = take_planes(bands[i], frame);
+  camera::demosaic_color_bilinear_into(d, raw, sensor.demosaic, measured);
   for (std::size_t i = 0; i < 3; ++i) finish_band(bands[i], mask, std::move(measured[i]), frame);
-  if (keep_raw) frame.channels["raw"] = std::vector<float>(raw.begin(), raw.end());
+  if (keep_raw) frame.channels["raw"].assign(raw.begin(), raw.end());
 }
 
 }  // namespace skypol::render

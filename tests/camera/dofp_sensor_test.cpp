@@ -199,6 +199,25 @@ TEST_CASE("raw frame and demosaic are the same bytes on one thread as on all", "
   CHECK(serial.s2 == parallel_stokes.s2);
 }
 
+TEST_CASE("the _into forms reuse buffers full of old values and give the same frame", "[sensor]") {
+  DofpSensor s = clean(40, 32);
+  s.shot_noise = true;
+  s.seed = 5;
+  const Field f = uniform(s, 0.05f, 0.02f, -0.01f);
+  const auto n = static_cast<std::size_t>(s.width * s.height);
+  std::vector<std::uint16_t> raw(n, 4095);
+  simulate_raw_into(s, f.s0, f.s1, f.s2, 2, raw);
+  CHECK(raw == simulate_raw(s, f.s0, f.s1, f.s2, 2));
+  StokesPlanes reused{std::vector<float>(n, -7.0f), std::vector<float>(n, -7.0f), std::vector<float>(n, -7.0f)};
+  const float* storage = reused.s0.data();
+  demosaic_bilinear_into(s, raw, Demosaic::nominal, reused);
+  CHECK(reused.s0.data() == storage);  // no new allocation
+  const StokesPlanes fresh = demosaic_bilinear(s, raw);
+  CHECK(reused.s0 == fresh.s0);
+  CHECK(reused.s1 == fresh.s1);
+  CHECK(reused.s2 == fresh.s2);
+}
+
 TEST_CASE("bad sensor parameters are named", "[sensor]") {
   DofpSensor s = clean();
   s.extinction_ratio = 1;
