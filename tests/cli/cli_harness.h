@@ -30,12 +30,15 @@ inline Result run_shell(const std::string& command) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
-// The skypol executable under test (SKYPOL_BIN) with these arguments.
-inline Result run(const std::string& args) {
+// The skypol executable under test (ctest sets SKYPOL_BIN).
+inline std::string skypol_bin() {
   const char* bin = std::getenv("SKYPOL_BIN");
   REQUIRE(bin != nullptr);
-  return run_shell(std::string(bin) + " " + args);
+  return bin;
 }
+
+// The skypol executable under test with these arguments.
+inline Result run(const std::string& args) { return run_shell(skypol_bin() + " " + args); }
 
 struct TempDir {
   std::filesystem::path path;

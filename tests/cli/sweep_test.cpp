@@ -23,9 +23,7 @@ const std::string kTiny = kSource + "/scenes/sweeps/tiny.toml";
 
 // A shell command (not skypol), with SKYPOL pointing at the executable under test.
 Result sh(const std::string& command) {
-  const char* bin = std::getenv("SKYPOL_BIN");
-  REQUIRE(bin != nullptr);
-  return skypol::test::run_shell("SKYPOL='" + std::string(bin) + "' " + command);
+  return skypol::test::run_shell("SKYPOL='" + skypol::test::skypol_bin() + "' " + command);
 }
 
 std::vector<std::string> lines_of(const fs::path& p) {

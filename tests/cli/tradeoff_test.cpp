@@ -4,6 +4,8 @@
 // better, a longer exposure clips more). Timings are printed by the report, never asserted here.
 #include <catch2/catch.hpp>
 
+#include "cli/cli_harness.h"
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -17,39 +19,14 @@
 #include <unistd.h>
 #include <vector>
 
+using skypol::test::Result;
+using skypol::test::run;
+using skypol::test::run_shell;
+using skypol::test::skypol_bin;
+using skypol::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
-
-struct Result {
-  int code;
-  std::string out;
-};
-
-Result run_command(const std::string& cmd) {
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p)) out += buf.data();
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-std::string skypol_bin() {
-  const char* bin = std::getenv("SKYPOL_BIN");
-  REQUIRE(bin != nullptr);
-  return bin;
-}
-
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("skypol-tradeoff-" + std::to_string(::getpid()) + "-" + name)) {
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 // A CSV table: header and rows of fields (RFC 4180 quoting).
 struct Csv {
@@ -163,8 +140,8 @@ void check_scores(const Csv& t) {
 // once per section): scripts/benchmarks --small runs `skypol tradeoff all --small` into
 // <dir>/figures/benchmarks, then plots and writes <dir>/benchmarks.md.
 const fs::path& small_report() {
-  static TempDir tmp("report");
-  static const Result r = run_command(std::string(SKYPOL_SOURCE_DIR) + "/scripts/benchmarks --small --out " +
+  static TempDir tmp;
+  static const Result r = run_shell(std::string(SKYPOL_SOURCE_DIR) + "/scripts/benchmarks --small --out " +
                                       tmp.path.string() + " --skypol " + skypol_bin());
   INFO(r.out);
   REQUIRE(r.code == 0);
@@ -333,14 +310,14 @@ TEST_CASE("skypol tradeoff all --small writes every table with its columns and s
 }
 
 TEST_CASE("skypol tradeoff refuses an unknown study and writes nothing", "[cli][tradeoff]") {
-  TempDir tmp("bad");
+  TempDir tmp;
   const fs::path out = tmp.path / "never";
-  const Result r = run_command(skypol_bin() + " tradeoff spp_typo --out " + out.string());
+  const Result r = run("tradeoff spp_typo --out " + out.string());
   CHECK(r.code == 2);
   CHECK(r.out.find("unknown study \"spp_typo\"") != std::string::npos);
   CHECK(r.out.find("lens_inverse") != std::string::npos);  // the legal names are listed
   CHECK(!fs::exists(out));
-  CHECK(run_command(skypol_bin() + " tradeoff spp").code != 0);  // --out is required
+  CHECK(run("tradeoff spp").code != 0);  // --out is required
 }
 
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
