@@ -5,26 +5,12 @@
 
 #include "cli/commands.h"
 #include "render/benchmark.h"
+#include "render/json_text.h"
 
 namespace skypol::cli {
 namespace {
 
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
+using render::json_quoted;
 
 void print_text(const std::string& scene, const render::BenchFigures& b) {
   const render::BenchContext& c = b.context;
@@ -56,14 +42,14 @@ void print_text(const std::string& scene, const render::BenchFigures& b) {
 void print_json(const std::string& scene, const render::BenchFigures& b) {
   const render::BenchContext& c = b.context;
   std::string channels;
-  for (const std::string& ch : b.channels) channels += (channels.empty() ? "" : ", ") + quoted(ch);
-  std::printf("{\"scene\": %s, \"date_utc\": %s,\n", quoted(scene).c_str(), quoted(c.date_utc).c_str());
+  for (const std::string& ch : b.channels) channels += (channels.empty() ? "" : ", ") + json_quoted(ch);
+  std::printf("{\"scene\": %s, \"date_utc\": %s,\n", json_quoted(scene).c_str(), json_quoted(c.date_utc).c_str());
   std::printf(" \"machine\": {\"cpu\": %s, \"hardware_threads\": %d, \"renderer_threads\": %d, \"load_average\": %.2f},\n",
-              quoted(c.cpu).c_str(), c.hardware_threads, c.tbb_threads, c.load_average);
-  std::printf(" \"build\": {\"type\": %s, \"compiler\": %s},\n", quoted(c.build_type).c_str(), quoted(c.compiler).c_str());
+              json_quoted(c.cpu).c_str(), c.hardware_threads, c.tbb_threads, c.load_average);
+  std::printf(" \"build\": {\"type\": %s, \"compiler\": %s},\n", json_quoted(c.build_type).c_str(), json_quoted(c.compiler).c_str());
   std::printf(" \"frame\": {\"width\": %d, \"height\": %d, \"spp\": %d, \"frames\": %d, \"channels\": [%s], "
               "\"compression\": %s, \"half\": %s, \"mb_per_frame\": %.3f},\n",
-              b.width, b.height, b.spp, b.frames, channels.c_str(), quoted(b.compression).c_str(),
+              b.width, b.height, b.spp, b.frames, channels.c_str(), json_quoted(b.compression).c_str(),
               b.half ? "true" : "false", b.mb_per_frame);
   std::printf(" \"ray_setup_ms\": %.3f, \"frame_alloc_ms\": %.3f,\n", b.ray_setup_ms, b.frame_alloc_ms);
   std::printf(" \"sky_render_ms_per_frame\": %.3f, \"sky_mpix_per_s\": %.3f, \"new_frame_render_ms\": %.3f,\n",

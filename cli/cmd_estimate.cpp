@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/estimate_report.h"
+#include "render/json_text.h"
 #include "render/stack_io.h"
 #include "skypole/classic.h"
 #include "skypole/evaluate.h"
@@ -27,14 +28,7 @@ std::string heading_or_null(const std::optional<double>& v, int decimals) {
   return v ? skypole::format_heading(*v, decimals) : "null";
 }
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
+using render::json_quoted;
 
 // The classic estimator's step images (the paper's Fig. 1D and Fig. 2) as one multi-channel EXR:
 // filtered.NN, difference.II-JJ, binary.II-JJ, sum, maximum. Written to a temporary name first.
@@ -86,7 +80,7 @@ void write_intermediates(const skypole::ClassicImages& im, const std::string& pa
 void print_json(const std::string& path, const render::Stack& stack, const skypole::PoleEstimate& e,
                 const skypole::Score& s) {
   const render::Truth& t = stack.frames.at(0).truth;
-  std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": true, \"frames\": %zu, \"seconds\": %.4f,\n", json_string(path).c_str(),
+  std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": true, \"frames\": %zu, \"seconds\": %.4f,\n", json_quoted(path).c_str(),
               e.method.c_str(), stack.frames.size(), e.seconds);
   std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
               t.site.latitude_deg, s.latitude_error_deg);
@@ -94,7 +88,7 @@ void print_json(const std::string& path, const render::Stack& stack, const skypo
               heading_or_null(e.heading_deg, 6).c_str(), t.heading_deg, number_or_null(s.bearing_error_deg, 6).c_str());
   std::printf(" \"angular_error_deg\": %.6f, \"pole\": \"%s\", \"residual_deg\": %.6f, \"confidence\": %.4f,\n",
               s.angular_error_deg, e.is_north ? "north" : "south", e.residual_deg, e.confidence);
-  std::printf(" \"note\": %s}", json_string(e.note).c_str());
+  std::printf(" \"note\": %s}", json_quoted(e.note).c_str());
 }
 
 void print_table(const render::Stack& stack, const skypole::PoleEstimate& e, const skypole::Score& s) {
@@ -175,7 +169,7 @@ void print_estimate(const EstimateRequest& r) {
       ++declined;
       if (r.json) {
         std::printf("%s{\"stack\": %s, \"method\": \"%s\", \"valid\": false, \"why_invalid\": %s}", i ? ",\n" : "",
-                    json_string(r.path).c_str(), methods[i].c_str(), json_string(e.why_invalid).c_str());
+                    json_quoted(r.path).c_str(), methods[i].c_str(), json_quoted(e.why_invalid).c_str());
       } else {
         std::printf("method   %s: no pole: %s\n", methods[i].c_str(), e.why_invalid.c_str());
       }

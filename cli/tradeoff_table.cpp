@@ -6,17 +6,10 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "skypole/evaluate.h"
+
 namespace skypol::cli::tradeoff {
-namespace {
-
-std::string quoted(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-}  // namespace
+using skypole::csv_field;
 
 Table::Table(std::vector<std::string> columns) : columns_(std::move(columns)) {}
 
@@ -48,10 +41,10 @@ Table& Table::set(const std::string& column, double value) {
 
 std::string Table::csv() const {
   std::string out;
-  for (std::size_t i = 0; i < columns_.size(); ++i) out += (i ? "," : "") + quoted(columns_[i]);
+  for (std::size_t i = 0; i < columns_.size(); ++i) out += (i ? "," : "") + csv_field(columns_[i]);
   out += "\n";
   for (const auto& r : rows_) {
-    for (std::size_t i = 0; i < r.size(); ++i) out += (i ? "," : "") + quoted(r[i]);
+    for (std::size_t i = 0; i < r.size(); ++i) out += (i ? "," : "") + csv_field(r[i]);
     out += "\n";
   }
   return out;

@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "camera/camera.h"
+#include "render/json_text.h"
 #include "render/pipeline.h"
 #include "render/toml_fields.h"
 #include "render/truth.h"
@@ -201,19 +202,7 @@ void json_of(std::ostream& os, const toml::node& n) {
     os << "}";
   } else if (n.is_string() || n.is_date() || n.is_time() || n.is_date_time()) {
     std::string s = n.is_string() ? *n.value<std::string>() : to_toml_value(n);
-    os << "\"";
-    for (char c : s) {
-      if (c == '"' || c == '\\') {
-        os << '\\' << c;
-      } else if (static_cast<unsigned char>(c) < 0x20) {
-        char buf[8];
-        std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
-        os << buf;
-      } else {
-        os << c;
-      }
-    }
-    os << "\"";
+    os << json_quoted(s);
   } else if (n.is_floating_point()) {
     const double v = *n.value<double>();
     if (!std::isfinite(v)) {

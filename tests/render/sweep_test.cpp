@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "render/json_text.h"
 #include "render/stack_io.h"
 #include "render/sweep.h"
 
@@ -256,4 +257,9 @@ TEST_CASE("a failing sweep writes nothing", "[sweep][errors]") {
   o.out_dir = (d.path / "out").string();
   CHECK_THROWS_WITH(run_sweep(s, o), Catch::Contains("value 91 out of range"));
   CHECK_FALSE(fs::exists(d.path / "out"));
+}
+
+TEST_CASE("JSON strings: quotes, backslashes and control characters escaped, UTF-8 kept", "[sweep]") {
+  CHECK(skypol::render::json_quoted("plain") == "\"plain\"");
+  CHECK(skypol::render::json_quoted("a\"b\\c\n\x01 é") == "\"a\\\"b\\\\c\\u000a\\u0001 é\"");
 }
