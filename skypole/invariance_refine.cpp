@@ -280,15 +280,22 @@ struct CorotatingFit {
   // sun's step along its hour circle. The tilt axis a = p × s_mid (s_mid: the sun at the middle
   // instant) moves the sun along that circle; a northward drift (Δδ > 0) brings it towards the
   // NCP and away from the SCP, which `sign` also says.
-  Eigen::Matrix3d turn_back(const Eigen::Vector3d& p, std::size_t t) const {
-    const Eigen::Matrix3d spin(Eigen::AngleAxisd(-sign * motion.hour_angle_change[t], p));
-    if (motion.suns_in_frames.empty() || motion.declination_change.empty()) return spin;
+  // The tilt axis for pole p, or nullopt when the drift is not modelled.
+  std::optional<Eigen::Vector3d> tilt_axis(const Eigen::Vector3d& p) const {
+    if (motion.suns_in_frames.empty() || motion.declination_change.empty()) return std::nullopt;
     Eigen::Vector3d s_mid = Eigen::Vector3d::Zero();
     for (const auto& [k, s_k] : motion.suns_in_frames)
       s_mid += Eigen::AngleAxisd(-sign * motion.hour_angle_change[k], p) * s_k;
     const Eigen::Vector3d a = p.cross(s_mid);
-    if (a.norm() < 1e-9) return spin;
-    return Eigen::Matrix3d(Eigen::AngleAxisd(-sign * motion.declination_change[t], a.normalized())) * spin;
+    if (a.norm() < 1e-9) return std::nullopt;
+    return a.normalized();
+  }
+
+  Eigen::Matrix3d turn_back(const Eigen::Vector3d& p, const std::optional<Eigen::Vector3d>& axis,
+                            std::size_t t) const {
+    const Eigen::Matrix3d spin(Eigen::AngleAxisd(-sign * motion.hour_angle_change[t], p));
+    if (!axis) return spin;
+    return Eigen::Matrix3d(Eigen::AngleAxisd(-sign * motion.declination_change[t], *axis)) * spin;
   }
 
   // Residual sum of squares of the shared fit for pole p; `rows` gets the number of data.
@@ -304,8 +311,9 @@ struct CorotatingFit {
     Eigen::VectorXd aty = Eigen::VectorXd::Zero(terms), row(terms);
     double yty = 0;
     std::size_t n = 0;
+    const std::optional<Eigen::Vector3d> axis = tilt_axis(p);
     for (std::size_t t = 0; t < nf; ++t) {
-      const Eigen::Matrix3d back = turn_back(p, t);
+      const Eigen::Matrix3d back = turn_back(p, axis, t);
       if (trend) row(np) = (sky.times_s[t] - t_mid) / span;
       for (std::size_t k = 0; k < win.dirs.size(); ++k) {
         const Eigen::Vector3d d = back * win.dirs[k];
