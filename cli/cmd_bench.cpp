@@ -4,16 +4,16 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "render/benchmark.h"
-#include "render/json_text.h"
+#include "studies/benchmark.h"
+#include "scene/json_text.h"
 
 namespace skypol::cli {
 namespace {
 
-using render::json_quoted;
+using scene::json_quoted;
 
-void print_text(const std::string& scene, const render::BenchFigures& b) {
-  const render::BenchContext& c = b.context;
+void print_text(const std::string& scene, const studies::BenchFigures& b) {
+  const studies::BenchContext& c = b.context;
   std::printf("skypol bench  %s  %s\n", scene.c_str(), c.date_utc.c_str());
   std::printf("machine               %s, %d hardware threads (renderer uses %d), load average %.2f\n", c.cpu.c_str(),
               c.hardware_threads, c.tbb_threads, c.load_average);
@@ -39,17 +39,17 @@ void print_text(const std::string& scene, const render::BenchFigures& b) {
               b.end_to_end_ms, b.end_to_end_ms / b.openexr_write_ms);
 }
 
-void print_json(const std::string& scene, const render::BenchFigures& b) {
-  const render::BenchContext& c = b.context;
+void print_json(const std::string& scene, const studies::BenchFigures& b) {
+  const studies::BenchContext& c = b.context;
   std::string channels;
-  for (const std::string& ch : b.channels) channels += (channels.empty() ? "" : ", ") + json_quoted(ch);
-  std::printf("{\"scene\": %s, \"date_utc\": %s,\n", json_quoted(scene).c_str(), json_quoted(c.date_utc).c_str());
+  for (const std::string& ch : b.channels) channels += (channels.empty() ? "" : ", ") + scene::json_quoted(ch);
+  std::printf("{\"scene\": %s, \"date_utc\": %s,\n", scene::json_quoted(scene).c_str(), scene::json_quoted(c.date_utc).c_str());
   std::printf(" \"machine\": {\"cpu\": %s, \"hardware_threads\": %d, \"renderer_threads\": %d, \"load_average\": %.2f},\n",
-              json_quoted(c.cpu).c_str(), c.hardware_threads, c.tbb_threads, c.load_average);
-  std::printf(" \"build\": {\"type\": %s, \"compiler\": %s},\n", json_quoted(c.build_type).c_str(), json_quoted(c.compiler).c_str());
+              scene::json_quoted(c.cpu).c_str(), c.hardware_threads, c.tbb_threads, c.load_average);
+  std::printf(" \"build\": {\"type\": %s, \"compiler\": %s},\n", scene::json_quoted(c.build_type).c_str(), scene::json_quoted(c.compiler).c_str());
   std::printf(" \"frame\": {\"width\": %d, \"height\": %d, \"spp\": %d, \"frames\": %d, \"channels\": [%s], "
               "\"compression\": %s, \"half\": %s, \"mb_per_frame\": %.3f},\n",
-              b.width, b.height, b.spp, b.frames, channels.c_str(), json_quoted(b.compression).c_str(),
+              b.width, b.height, b.spp, b.frames, channels.c_str(), scene::json_quoted(b.compression).c_str(),
               b.half ? "true" : "false", b.mb_per_frame);
   std::printf(" \"ray_setup_ms\": %.3f, \"frame_alloc_ms\": %.3f,\n", b.ray_setup_ms, b.frame_alloc_ms);
   std::printf(" \"sky_render_ms_per_frame\": %.3f, \"sky_mpix_per_s\": %.3f, \"new_frame_render_ms\": %.3f,\n",
@@ -91,8 +91,8 @@ void add_bench(CLI::App& app) {
   bench->add_flag("--json", a->json, "Print the figures and their context as one JSON object");
   bench->add_flag("--render-only", a->render_only, "Time the renderer only (no writing, no end-to-end run)");
   bench->callback([a] {
-    const render::Scene scene = render::load_scene(a->scene);
-    const render::BenchFigures b = render::bench_render(scene, a->frames, a->scratch, a->render_only);
+    const scene::Scene scene = scene::load_scene(a->scene);
+    const studies::BenchFigures b = studies::bench_render(scene, a->frames, a->scratch, a->render_only);
     if (a->json) {
       print_json(a->scene, b);
     } else {

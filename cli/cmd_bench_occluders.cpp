@@ -4,7 +4,7 @@
 #include <ctime>
 
 #include "cli/commands.h"
-#include "render/occluders_bench.h"
+#include "studies/occluders_bench.h"
 
 namespace skypol::cli {
 
@@ -18,8 +18,8 @@ void add_bench_occluders(CLI::App& app) {
   bench->add_option("scene", a->scene, "Scene file with an [occluders] section (default: the urban canyon, full frame)");
   bench->add_option("-n,--repeats", a->repeats, "Passes to time (the best is reported)")->check(CLI::Range(1, 1000));
   bench->callback([a] {
-    const render::Scene scene = render::load_scene(a->scene);
-    const render::OccluderBenchFigures b = render::bench_occluders(scene, a->repeats);
+    const scene::Scene scene = scene::load_scene(a->scene);
+    const studies::OccluderBenchFigures b = studies::bench_occluders(scene, a->repeats);
     char date[32];
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));

@@ -1,195 +1,17 @@
-// `skypol estimate STACK`: north from a stack, scored against the truth in its headers.
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
-#include <stdexcept>
-
-#include <OpenImageIO/imageio.h>
+// `skypol estimate STACK`: north from a stack, scored against the truth in its headers
+// (skypole/report.h prints it).
+#include <memory>
+#include <string>
 
 #include "cli/commands.h"
-#include "cli/estimate_report.h"
-#include "render/json_text.h"
-#include "render/stack_io.h"
-#include "skypole/classic.h"
 #include "skypole/evaluate.h"
+#include "skypole/report.h"
 
 namespace skypol::cli {
-namespace {
-
-// A number with `decimals` decimals (and a sign if `sign`), or "null" where it is undefined.
-std::string number_or_null(const std::optional<double>& v, int decimals, bool sign = false) {
-  if (!v) return "null";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, sign ? "%+.*f" : "%.*f", decimals, *v);
-  return buf;
-}
-
-std::string heading_or_null(const std::optional<double>& v, int decimals) {
-  return v ? skypole::format_heading(*v, decimals) : "null";
-}
-
-using render::json_quoted;
-
-// The classic estimator's step images (the paper's Fig. 1D and Fig. 2) as one multi-channel EXR:
-// filtered.NN, difference.II-JJ, binary.II-JJ, sum, maximum. Written to a temporary name first.
-void write_intermediates(const skypole::ClassicImages& im, const std::string& path) {
-  std::vector<std::string> names;
-  std::vector<const float*> planes;
-  std::vector<std::vector<float>> converted;  // uint8 images as float
-  converted.reserve(im.binaries.size() + 1);
-  char buf[64];
-  for (std::size_t i = 0; i < im.filtered.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "filtered.%02zu", i);
-    names.emplace_back(buf);
-    planes.push_back(im.filtered[i].data());
-  }
-  for (std::size_t k = 0; k < im.pairs.size(); ++k) {
-    std::snprintf(buf, sizeof buf, "%02d-%02d", im.pairs[k].first, im.pairs[k].second);
-    names.push_back(std::string("difference.") + buf);
-    planes.push_back(im.differences[k].data());
-    converted.emplace_back(im.binaries[k].begin(), im.binaries[k].end());
-    names.push_back(std::string("binary.") + buf);
-    planes.push_back(converted.back().data());
-  }
-  names.emplace_back("sum");
-  planes.push_back(im.sum.data());
-  converted.emplace_back(im.maximum.begin(), im.maximum.end());
-  names.emplace_back("maximum");
-  planes.push_back(converted.back().data());
-
-  const auto n = static_cast<std::size_t>(im.width) * static_cast<std::size_t>(im.height);
-  std::vector<float> pixels(n * names.size());
-  for (std::size_t c = 0; c < names.size(); ++c) {
-    for (std::size_t i = 0; i < n; ++i) pixels[i * names.size() + c] = planes[c][i];
-  }
-  OIIO::ImageSpec spec(im.width, im.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
-  spec.channelnames = names;
-  spec.attribute("compression", "zip");
-  std::string thresholds;
-  for (float t : im.thresholds) thresholds += (thresholds.empty() ? "" : " ") + std::to_string(t);
-  spec.attribute("skypol:classic_thresholds", thresholds);
-  const std::string tmp = path + ".tmp";
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
-    std::remove(tmp.c_str());
-    throw std::invalid_argument("cannot write " + path + ": " + OIIO::geterror());
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::invalid_argument("cannot rename to " + path);
-}
-
-void print_json(const std::string& path, const render::Stack& stack, const skypole::PoleEstimate& e,
-                const skypole::Score& s) {
-  const render::Truth& t = stack.frames.at(0).truth;
-  std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": true, \"frames\": %zu, \"seconds\": %.4f,\n", json_quoted(path).c_str(),
-              e.method.c_str(), stack.frames.size(), e.seconds);
-  std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
-              t.site.latitude_deg, s.latitude_error_deg);
-  std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %.6f, \"bearing_error_deg\": %s,\n",
-              heading_or_null(e.heading_deg, 6).c_str(), t.heading_deg, number_or_null(s.bearing_error_deg, 6).c_str());
-  std::printf(" \"angular_error_deg\": %.6f, \"pole\": \"%s\", \"residual_deg\": %.6f, \"confidence\": %.4f,\n",
-              s.angular_error_deg, e.is_north ? "north" : "south", e.residual_deg, e.confidence);
-  std::printf(" \"note\": %s}", json_quoted(e.note).c_str());
-}
-
-void print_table(const render::Stack& stack, const skypole::PoleEstimate& e, const skypole::Score& s) {
-  const render::Truth& t = stack.frames.at(0).truth;
-  std::printf("method   %s (%.3f s)%s%s\n", e.method.c_str(), e.seconds, e.note.empty() ? "" : "; ", e.note.c_str());
-  std::printf("%-24s %12s %12s %12s\n", "", "estimate", "truth", "error");
-  std::printf("%-24s %12.3f %12.3f %+12.3f\n", "latitude (deg)", e.latitude_deg, t.site.latitude_deg,
-              s.latitude_error_deg);
-  std::printf("%-24s %12s %12.3f %12s\n", "north bearing (deg)", heading_or_null(e.heading_deg, 3).c_str(),
-              t.heading_deg, number_or_null(s.bearing_error_deg, 3, true).c_str());
-  std::printf("%-24s %12s %12s %12.3f\n", "pole on the sphere (deg)", e.is_north ? "north" : "south",
-              t.pole_is_north ? "north" : "south", s.angular_error_deg);
-}
-
-}  // namespace
-
-std::vector<std::string> estimator_channels(const std::string& path) {
-  const render::StackSummary s = render::peek_stack(path);
-  std::vector<std::string> want;
-  for (const std::string& c : s.channels) {
-    if (c == "mask" || c.rfind("DoLP.", 0) == 0 || c.rfind("AoLP.", 0) == 0) want.push_back(c);
-  }
-  return want;
-}
-
-std::vector<std::string> expand_methods(const std::vector<std::string>& names) {
-  const std::vector<std::string>& legal = skypole::method_names();
-  if (names.size() == 1 && names[0] == "all") return legal;
-  for (const std::string& m : names) {
-    if (std::find(legal.begin(), legal.end(), m) == legal.end()) {
-      std::string list;
-      for (const std::string& l : legal) list += (list.empty() ? "" : ", ") + l;
-      throw std::invalid_argument("unknown method '" + m + "' (expected one of " + list + ", or all)");
-    }
-  }
-  if (names.empty()) throw std::invalid_argument("no method given");
-  return names;
-}
-
-void print_estimate(const EstimateRequest& r) {
-  const std::vector<std::string> methods = expand_methods(r.methods);
-  if (!r.intermediates.empty() && methods != std::vector<std::string>{"classic"}) {
-    throw std::invalid_argument("--intermediates: only the classic method has intermediate images");
-  }
-  const render::Stack stack = render::read_stack(r.path, estimator_channels(r.path));
-  if (stack.frames.empty()) throw std::invalid_argument(r.path + ": the stack has no frames");
-  if (!r.json) {
-    std::printf("stack    %s (%zu frames, %dx%d)\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
-                stack.frames[0].height);
-  }
-  if (r.json && methods.size() > 1) std::printf("[");
-  std::size_t declined = 0;
-  for (std::size_t i = 0; i < methods.size(); ++i) {
-    skypole::PoleEstimate e;
-    if (!r.intermediates.empty()) {
-      skypole::ClassicParams p;
-      p.input = r.input;
-      p.keep_intermediates = true;
-      skypole::ClassicResult c = skypole::estimate_classic(stack, p);
-      write_intermediates(c.images, r.intermediates);
-      e = std::move(c.estimate);
-    } else {
-      try {
-        e = skypole::run_method(stack, methods[i], r.input);
-      } catch (const std::invalid_argument& err) {
-        if (methods.size() == 1) throw;
-        e.method = methods[i];
-        e.valid = false;
-        e.why_invalid = err.what();
-      }
-    }
-    if (!e.valid) {
-      // One method alone: its refusal is the command's error. Several: the others still run, and
-      // this one says why it has no pole (never a silent number).
-      if (methods.size() == 1) {
-        throw std::invalid_argument(r.path + ": " + methods[i] + " found no pole: " + e.why_invalid);
-      }
-      ++declined;
-      if (r.json) {
-        std::printf("%s{\"stack\": %s, \"method\": \"%s\", \"valid\": false, \"why_invalid\": %s}", i ? ",\n" : "",
-                    json_quoted(r.path).c_str(), methods[i].c_str(), json_quoted(e.why_invalid).c_str());
-      } else {
-        std::printf("method   %s: no pole: %s\n", methods[i].c_str(), e.why_invalid.c_str());
-      }
-      continue;
-    }
-    const skypole::Score s = skypole::score(e, stack.frames[0].truth);
-    if (r.json) {
-      if (i) std::printf(",\n");
-      print_json(r.path, stack, e, s);
-    } else {
-      print_table(stack, e, s);
-    }
-  }
-  if (r.json) std::printf(methods.size() > 1 ? "]\n" : "\n");
-  if (declined == methods.size()) throw std::invalid_argument(r.path + ": no method found a pole");
-}
 
 void add_estimate(CLI::App& app) {
   struct Args {
-    EstimateRequest request;
+    skypole::EstimateRequest request;
     std::string hemisphere = "automatic";
   };
   auto a = std::make_shared<Args>();
@@ -208,7 +30,7 @@ void add_estimate(CLI::App& app) {
   est->add_flag("--json", a->request.json, "Print the result as JSON");
   est->callback([a] {
     a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
-    print_estimate(a->request);
+    skypole::print_estimate(a->request);
   });
 }
 

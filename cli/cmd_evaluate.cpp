@@ -7,9 +7,9 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
-#include "cli/estimate_report.h"
-#include "render/scene_error.h"
-#include "render/stack_io.h"
+#include "skypole/report.h"
+#include "scene/scene_error.h"
+#include "stack/stack_io.h"
 #include "skypole/evaluate.h"
 
 namespace skypol::cli {
@@ -28,9 +28,9 @@ std::vector<std::string> find_stacks(const std::vector<std::string>& inputs) {
       for (const auto& entry : fs::recursive_directory_iterator(in)) {
         if (!entry.is_regular_file() || entry.path().extension() != ".exr") continue;
         try {
-          (void)render::peek_stack(entry.path().string());
+          (void)stack::peek_stack(entry.path().string());
           found.push_back(entry.path().string());
-        } catch (const render::SceneError& e) {
+        } catch (const scene::SceneError& e) {
           std::fprintf(stderr, "skipped: %s\n", e.what());
         }
       }
@@ -82,11 +82,11 @@ void add_evaluate(CLI::App& app) {
   ev->add_flag("-q,--quiet", a->quiet, "No per-stack progress on stderr");
   ev->callback([a] {
     a->input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
-    const std::vector<std::string> methods = expand_methods(a->methods);
+    const std::vector<std::string> methods = skypole::expand_methods(a->methods);
     const std::vector<std::string> stacks = find_stacks(a->inputs);
     std::vector<skypole::EvaluationRow> rows;
     for (std::size_t i = 0; i < stacks.size(); ++i) {
-      const render::Stack stack = render::read_stack(stacks[i], estimator_channels(stacks[i]));
+      const stack::Stack stack = stack::read_stack(stacks[i], skypole::estimator_channels(stacks[i]));
       if (stack.frames.empty()) throw std::invalid_argument(stacks[i] + ": the stack has no frames");
       for (const std::string& m : methods) {
         skypole::EvaluationRow row;

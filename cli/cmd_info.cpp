@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "render/stack_io.h"
+#include "stack/stack_io.h"
 
 namespace skypol::cli {
 
@@ -10,7 +10,7 @@ void add_info(CLI::App& app) {
   auto path = std::make_shared<std::string>();
   CLI::App* info = app.add_subcommand("info", "Print a stack's frames and the truth in their headers");
   info->add_option("stack", *path, "A stack written by skypol render")->required();
-  info->callback([path] { std::fputs(render::describe_stack(*path).c_str(), stdout); });
+  info->callback([path] { std::fputs(stack::describe_stack(*path).c_str(), stdout); });
 }
 
 }  // namespace skypol::cli

@@ -5,7 +5,7 @@
 #include <numbers>
 
 #include "cli/commands.h"
-#include "render/scene.h"
+#include "scene/scene.h"
 
 namespace skypol::cli {
 namespace {
@@ -68,8 +68,8 @@ void add_lens(CLI::App& app) {
   lens->add_option("-p,--pixel", a->pixels, "Pixel 'u,v' (OpenCV centres) -> world azimuth, elevation");
   lens->add_option("-d,--direction", a->directions, "World 'azimuth,elevation' in degrees -> pixel");
   lens->callback([a] {
-    const render::Scene scene = render::load_scene(a->scene);
-    const std::shared_ptr<const camera::Camera> cam = render::build_camera(scene.camera);
+    const scene::Scene scene = scene::load_scene(a->scene);
+    const std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
     const camera::Intrinsics& k = cam->lens().intrinsics();
     std::printf("camera   %s, %dx%d px, fx %.4f fy %.4f, centre (%.4f, %.4f), field of view %.3f deg\n",
                 cam->lens().name().c_str(), k.width, k.height, k.fx, k.fy, k.cx, k.cy,

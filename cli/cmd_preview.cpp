@@ -1,8 +1,8 @@
-// `skypol preview STACK.exr [-o DIR]`: PNG previews of every frame of a stack (render/preview.h).
+// `skypol preview STACK.exr [-o DIR]`: PNG previews of every frame of a stack (stack/preview.h).
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "render/preview.h"
+#include "stack/preview.h"
 
 namespace skypol::cli {
 
@@ -16,8 +16,8 @@ void add_preview(CLI::App& app) {
   preview->add_option("stack", a->stack, "Stack file (EXR written by skypol render)")->required();
   preview->add_option("-o,--output", a->out, "Folder for the PNGs (default: next to the stack, <name>-preview)");
   preview->callback([a] {
-    const std::string folder = a->out.empty() ? render::preview_folder_for(a->stack) : a->out;
-    const std::size_t n = render::write_stack_previews(a->stack, folder);
+    const std::string folder = a->out.empty() ? stack::preview_folder_for(a->stack) : a->out;
+    const std::size_t n = stack::write_stack_previews(a->stack, folder);
     std::printf("wrote %zu preview(s) into %s\n", n, folder.c_str());
   });
 }

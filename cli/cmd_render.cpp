@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
-#include "cli/estimate_report.h"
+#include "skypole/report.h"
 #include "render/pipeline.h"
 
 namespace skypol::cli {
@@ -18,9 +18,9 @@ struct RenderArgs {
 };
 
 std::string render_one(const RenderArgs& a) {
-  std::vector<render::Override> overrides;
-  for (const std::string& s : a.set) overrides.push_back(render::parse_override(s));
-  const render::Scene scene = render::load_scene(a.scene, overrides);
+  std::vector<scene::Override> overrides;
+  for (const std::string& s : a.set) overrides.push_back(scene::parse_override(s));
+  const scene::Scene scene = scene::load_scene(a.scene, overrides);
   const std::string out = a.out.empty() ? scene.output.path : a.out;
   const render::RenderReport r = render::render_scene(scene, out, make_progress(a.quiet));
   if (!a.quiet) {
@@ -53,7 +53,7 @@ void add_render(CLI::App& app) {
   run->add_flag("-q,--quiet", run_args->quiet, "No progress or summary on stderr");
   run->callback([run_args] {
     const std::string out = render_one(*run_args);
-    print_estimate(out, run_args->method, run_args->json);
+    skypole::print_estimate(out, run_args->method, run_args->json);
   });
 }
 

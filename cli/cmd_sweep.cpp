@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "cli/commands.h"
-#include "render/sweep.h"
+#include "render/sweep_run.h"
 
 namespace skypol::cli {
 
@@ -32,12 +32,12 @@ void add_sweep(CLI::App& app) {
   cmd->callback([a] {
     render::SweepOptions o;
     o.out_dir = a->out;
-    o.shard = render::parse_shard(a->shard);  // before anything is read or written
-    for (const std::string& s : a->set) o.overrides.push_back(render::parse_override(s));
+    o.shard = scene::parse_shard(a->shard);  // before anything is read or written
+    for (const std::string& s : a->set) o.overrides.push_back(scene::parse_override(s));
     o.threads = a->threads;
     o.dry_run = a->dry_run;
     if (!a->quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-    const render::Sweep sweep = render::load_sweep(a->sweep);
+    const scene::Sweep sweep = scene::load_sweep(a->sweep);
     const render::SweepReport r = render::run_sweep(sweep, o);
     if (!a->quiet && o.dry_run) {
       std::fprintf(stderr, "sweep %s (dry run): %zu variant(s) checked in %.2f s, manifest written; shard %zu/%zu has %zu: "

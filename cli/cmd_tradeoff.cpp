@@ -1,5 +1,5 @@
 // `skypol tradeoff STUDY --out DIR [--small]`: what accuracy costs in time, measured by calling the
-// libraries directly (cli/tradeoff_studies.h). Writes CSV tables and meta.csv (how they were
+// libraries directly (studies/tradeoff_studies.h). Writes CSV tables and meta.csv (how they were
 // made); scripts/benchmarks turns them into docs/benchmarks.md and its plots.
 #include <chrono>
 #include <cstdio>
@@ -10,8 +10,8 @@
 #include <tbb/info.h>
 
 #include "cli/commands.h"
-#include "cli/tradeoff_studies.h"
-#include "cli/tradeoff_table.h"
+#include "studies/tradeoff_studies.h"
+#include "studies/tradeoff_table.h"
 
 namespace skypol::cli {
 namespace {
@@ -24,8 +24,8 @@ std::string utc_now() {
 }
 
 // How the figures were made, beside them: the report quotes it.
-void write_meta(const tradeoff::StudyOptions& o, const std::string& which, double seconds) {
-  tradeoff::Table meta({"key", "value"});
+void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& which, double seconds) {
+  studies::tradeoff::Table meta({"key", "value"});
   meta.row().set("key", "date_utc").set("value", utc_now());
   meta.row().set("key", "studies").set("value", which);
   meta.row().set("key", "small").set("value", o.small);
@@ -50,11 +50,11 @@ void write_meta(const tradeoff::StudyOptions& o, const std::string& which, doubl
 void add_tradeoff(CLI::App& app) {
   struct Args {
     std::string study;
-    tradeoff::StudyOptions options;
+    studies::tradeoff::StudyOptions options;
   };
   auto a = std::make_shared<Args>();
   std::string names = "all";
-  for (const tradeoff::Study& s : tradeoff::studies()) names += ", " + s.name;
+  for (const studies::tradeoff::Study& s : studies::tradeoff::studies()) names += ", " + s.name;
   std::string help = "Study to run: " + names;
   CLI::App* cmd = app.add_subcommand(
       "tradeoff", "Measure what accuracy costs in time (CSV tables; scripts/benchmarks plots them)");
@@ -62,18 +62,18 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_option("--out", a->options.out_dir, "Folder for the CSV files")->required();
   cmd->add_flag("--small", a->options.small, "Tiny images and few settings (seconds; for tests)");
   cmd->callback([a] {
-    std::vector<const tradeoff::Study*> run;
-    for (const tradeoff::Study& s : tradeoff::studies())
+    std::vector<const studies::tradeoff::Study*> run;
+    for (const studies::tradeoff::Study& s : studies::tradeoff::studies())
       if (a->study == "all" || a->study == s.name) run.push_back(&s);
     if (run.empty()) {
       std::string legal = "all";
-      for (const tradeoff::Study& s : tradeoff::studies()) legal += ", " + s.name;
+      for (const studies::tradeoff::Study& s : studies::tradeoff::studies()) legal += ", " + s.name;
       throw std::invalid_argument("tradeoff: unknown study \"" + a->study + "\" (expected one of " + legal + ")");
     }
     std::filesystem::create_directories(a->options.out_dir);
     const auto t0 = std::chrono::steady_clock::now();
-    for (const tradeoff::Study* s : run) {
-      const double sec = tradeoff::best_seconds(1, [&] { s->run(a->options); });
+    for (const studies::tradeoff::Study* s : run) {
+      const double sec = studies::tradeoff::best_seconds(1, [&] { s->run(a->options); });
       std::fprintf(stderr, "tradeoff %-14s %7.1f s  -> %s/%s.csv\n", s->name.c_str(), sec,
                    a->options.out_dir.c_str(), s->name.c_str());
     }

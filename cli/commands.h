@@ -16,7 +16,7 @@ void add_bench(CLI::App& app);
 void add_sweep(CLI::App& app);
 void add_bench_occluders(CLI::App& app);
 void add_preview(CLI::App& app);
-void add_reproduce(CLI::App& app);  // the papers in simulation (cli/reproduce.h)
+void add_reproduce(CLI::App& app);  // the papers in simulation (studies/reproduce.h)
 void add_tradeoff(CLI::App& app);  // cli/cmd_tradeoff.cpp
 
 // Progress on stderr, only when stderr is a terminal and not --quiet.

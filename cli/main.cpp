@@ -3,7 +3,7 @@
 #include <exception>
 
 #include "cli/commands.h"
-#include "render/scene_error.h"
+#include "scene/scene_error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"skypol: a physically based renderer of skylight polarization and a benchmark for "
@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
-  } catch (const skypol::render::SceneError& e) {
+  } catch (const skypol::scene::SceneError& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
   } catch (const std::invalid_argument& e) {

@@ -21,15 +21,15 @@ double azimuth_deg_of(const Eigen::Vector3d& v) { return std::atan2(v.x(), v.y()
 
 }  // namespace
 
-double horizon_elevation_deg(const std::vector<HorizonPoint>& profile, double azimuth_deg) {
+double horizon_elevation_deg(const std::vector<scene::HorizonPoint>& profile, double azimuth_deg) {
   if (profile.size() == 1) return profile.front().elevation_deg;
   double az = std::fmod(azimuth_deg, 360.0);
   if (az < 0) az += 360;
   // The segment [a, b) that holds az; the last one wraps to the first point + 360°.
   auto next = std::upper_bound(profile.begin(), profile.end(), az,
-                               [](double v, const HorizonPoint& p) { return v < p.azimuth_deg; });
-  const HorizonPoint& b0 = next == profile.end() ? profile.front() : *next;
-  const HorizonPoint& a = next == profile.begin() ? profile.back() : *(next - 1);
+                               [](double v, const scene::HorizonPoint& p) { return v < p.azimuth_deg; });
+  const scene::HorizonPoint& b0 = next == profile.end() ? profile.front() : *next;
+  const scene::HorizonPoint& a = next == profile.begin() ? profile.back() : *(next - 1);
   double a_az = a.azimuth_deg, b_az = b0.azimuth_deg;
   if (b_az <= a_az) b_az += 360;         // the wrapping segment
   if (az < a_az) az += 360;              // az before the first point: on the wrapping segment
@@ -41,7 +41,7 @@ namespace {
 
 // The largest distance, in elevation, between the rule and the chords of [a, b] cut into `steps`,
 // probed at each chord's quarter, middle and three-quarter points.
-double chord_error_deg(const std::vector<HorizonPoint>& profile, double a, double b, int steps) {
+double chord_error_deg(const std::vector<scene::HorizonPoint>& profile, double a, double b, int steps) {
   double worst = 0;
   for (int s = 0; s < steps; ++s) {
     const double a0 = a + (b - a) * s / steps, a1 = a + (b - a) * (s + 1) / steps;
@@ -57,7 +57,7 @@ double chord_error_deg(const std::vector<HorizonPoint>& profile, double a, doubl
 
 }  // namespace
 
-TriangleMesh horizon_mesh(const std::vector<HorizonPoint>& profile, double radius_m) {
+scene::TriangleMesh horizon_mesh(const std::vector<scene::HorizonPoint>& profile, double radius_m) {
   // Sample azimuths: every profile point, and enough between them that no step exceeds 0.5° and
   // the straight edge between two samples stays within kToleranceDeg of the rule (a steep slope
   // needs finer steps: the chord is a great circle, the rule is linear in azimuth).
@@ -72,11 +72,11 @@ TriangleMesh horizon_mesh(const std::vector<HorizonPoint>& profile, double radiu
     for (int s = 0; s < steps; ++s) azimuths.push_back(a + (b - a) * s / steps);
   }
   double lowest = 0;
-  for (const HorizonPoint& p : profile) lowest = std::min(lowest, p.elevation_deg);
+  for (const scene::HorizonPoint& p : profile) lowest = std::min(lowest, p.elevation_deg);
   const double floor_deg = std::max(lowest - 1, -89.5);
 
   // Vertices: profile samples 0..m−1, ring below them m..2m−1, the floor's centre 2m.
-  TriangleMesh mesh;
+  scene::TriangleMesh mesh;
   const auto m = static_cast<std::uint32_t>(azimuths.size());
   for (double az : azimuths) mesh.vertices.push_back(enu(az, horizon_elevation_deg(profile, az), radius_m));
   for (double az : azimuths) mesh.vertices.push_back(enu(az, floor_deg, radius_m));

@@ -16,16 +16,16 @@
 
 #include <vector>
 
-#include "render/occluder_spec.h"
-#include "render/triangle_mesh.h"
+#include "scene/occluder_spec.h"
+#include "scene/triangle_mesh.h"
 
 namespace skypol::render {
 
 // The wall and floor at radius_m around the origin (the eye).
 // profile: non-empty, azimuths strictly increasing in [0, 360), elevations in (−90, 90).
-TriangleMesh horizon_mesh(const std::vector<HorizonPoint>& profile, double radius_m);
+scene::TriangleMesh horizon_mesh(const std::vector<scene::HorizonPoint>& profile, double radius_m);
 
 // The rule above: the profile's elevation at azimuth_deg (any real value), in degrees.
-double horizon_elevation_deg(const std::vector<HorizonPoint>& profile, double azimuth_deg);
+double horizon_elevation_deg(const std::vector<scene::HorizonPoint>& profile, double azimuth_deg);
 
 }  // namespace skypol::render

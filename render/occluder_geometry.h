@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "render/occluder_spec.h"
-#include "render/triangle_mesh.h"
+#include "scene/occluder_spec.h"
+#include "scene/triangle_mesh.h"
 
 namespace skypol::render {
 
@@ -16,8 +16,8 @@ namespace skypol::render {
 inline constexpr double kHorizonRadiusM = 100e3;
 
 // One mesh per kind that is present: the horizon, all boxes together, each OBJ mesh.
-std::vector<TriangleMesh> occluder_meshes(const OccluderSpec& spec);
+std::vector<scene::TriangleMesh> occluder_meshes(const scene::OccluderSpec& spec);
 
-std::size_t triangle_count(const std::vector<TriangleMesh>& meshes);
+std::size_t triangle_count(const std::vector<scene::TriangleMesh>& meshes);
 
 }  // namespace skypol::render

@@ -19,9 +19,9 @@ class Occluders {
   // out.size() == dirs.size(). Safe to call from many threads at once.
   virtual void occluded(std::span<const Eigen::Vector3f> dirs, std::span<std::uint8_t> out) const = 0;
 
-  // Whether occluded pixels show a shaded surface (OccludedPixels::shaded) instead of nothing.
+  // Whether occluded pixels show a shaded surface (scene::OccludedPixels::shaded) instead of nothing.
   virtual bool shaded() const { return false; }
-  // out[i] = S0 of the surface the ray along dirs[i] meets first (render/occluder_spec.h's shaded
+  // out[i] = S0 of the surface the ray along dirs[i] meets first (scene/occluder_spec.h's shaded
   // rule), 0 where it meets none. Only called when shaded().
   virtual void surface_s0(std::span<const Eigen::Vector3f> dirs, std::span<float> out) const {
     for (float& v : out) v = 0;

@@ -40,7 +40,7 @@ constexpr std::size_t kChunk = 256;
 
 class EmbreeOccluders final : public Occluders {
  public:
-  EmbreeOccluders(const std::vector<TriangleMesh>& meshes, bool shaded, double albedo)
+  EmbreeOccluders(const std::vector<scene::TriangleMesh>& meshes, bool shaded, double albedo)
       : shaded_(shaded), albedo_(static_cast<float>(albedo)) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("cannot create an Embree device");
@@ -51,7 +51,7 @@ class EmbreeOccluders final : public Occluders {
     // edge or a corner (the nadir of the horizon fan, a box's vertical edge) never slips through.
     rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-    for (const TriangleMesh& m : meshes) {
+    for (const scene::TriangleMesh& m : meshes) {
       RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_HIGH);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -151,9 +151,9 @@ class EmbreeOccluders final : public Occluders {
 
 }  // namespace
 
-std::shared_ptr<const Occluders> make_occluders(const OccluderSpec& spec) {
+std::shared_ptr<const Occluders> make_occluders(const scene::OccluderSpec& spec) {
   if (spec.empty()) return nullptr;
-  return std::make_shared<EmbreeOccluders>(occluder_meshes(spec), spec.occluded_pixels == OccludedPixels::shaded,
+  return std::make_shared<EmbreeOccluders>(occluder_meshes(spec), spec.occluded_pixels == scene::OccludedPixels::shaded,
                                            spec.surface_albedo);
 }
 

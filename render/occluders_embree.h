@@ -6,14 +6,14 @@
 #include <cstddef>
 #include <memory>
 
-#include "render/occluder_spec.h"
+#include "scene/occluder_spec.h"
 #include "render/occluders.h"
 
 namespace skypol::render {
 
 // Null when the spec is empty: then no Embree device and no BVH exist. Throws std::runtime_error
 // if Embree reports an error while building.
-std::shared_ptr<const Occluders> make_occluders(const OccluderSpec& spec);
+std::shared_ptr<const Occluders> make_occluders(const scene::OccluderSpec& spec);
 
 // Embree devices this process has created so far (a scene without occluders adds none).
 std::size_t embree_devices_created();

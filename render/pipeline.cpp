@@ -5,11 +5,11 @@
 #include <optional>
 
 #include "render/occluders_embree.h"
-#include "render/preview.h"
+#include "stack/preview.h"
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
-#include "render/stack_io.h"
-#include "render/truth.h"
+#include "stack/stack_io.h"
+#include "scene/truth.h"
 
 namespace skypol::render {
 namespace {
@@ -17,19 +17,19 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
-RenderReport render_scene(const Scene& scene, const std::string& out_path,
+RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
                           const std::function<void(std::size_t, std::size_t)>& progress) {
   RenderReport report;
   report.path = out_path;
   report.frames = scene.times.size();
 
   const auto t_setup = Clock::now();
-  std::shared_ptr<const camera::Camera> cam = build_camera(scene.camera);
-  std::unique_ptr<sky::SkyModel> sky = build_sky(scene.sky);
+  std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  std::unique_ptr<sky::SkyModel> sky = scene::build_sky(scene.sky);
   report.width = cam->width();
   report.height = cam->height();
-  std::vector<Truth> truths;
-  for (sky::Instant t : scene.times) truths.push_back(make_truth(scene, *cam, t));
+  std::vector<scene::Truth> truths;
+  for (sky::Instant t : scene.times) truths.push_back(scene::make_truth(scene, *cam, t));
   RenderOptions ro;
   ro.spp = scene.render.spp;
   ro.seed = scene.render.seed;
@@ -48,25 +48,25 @@ RenderReport render_scene(const Scene& scene, const std::string& out_path,
   for (const char* s : needed) {
     if (std::find(ro.channels.begin(), ro.channels.end(), s) == ro.channels.end()) ro.channels.emplace_back(s);
   }
-  std::optional<PreviewFolder> previews;
-  if (scene.output.previews) previews.emplace(preview_folder_for(out_path));
+  std::optional<stack::PreviewFolder> previews;
+  if (scene.output.previews) previews.emplace(stack::preview_folder_for(out_path));
   const Renderer renderer(cam, ro, make_occluders(scene.occluders));  // null without occluders
-  Frame f = renderer.new_frame();  // refilled for every part: pixel memory is allocated once per stack
+  stack::Frame f = renderer.new_frame();  // refilled for every part: pixel memory is allocated once per stack
   report.setup_seconds = since(t_setup);
 
-  StackHeader header;
+  stack::StackHeader header;
   header.bands = scene.render.bands;
   header.camera_description = scene.camera.description;
   header.scene_text = scene.text;
   header.sky_model = sky->name();
-  WriteOptions wo;
+  stack::WriteOptions wo;
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
 
   const auto t_total = Clock::now();
   double render_s = 0;
-  write_stack_reusing(out_path, truths, written, cam->width(), cam->height(), header, wo,
-                      [&](std::size_t i) -> const Frame& {
+  stack::write_stack_reusing(out_path, truths, written, cam->width(), cam->height(), header, wo,
+                      [&](std::size_t i) -> const stack::Frame& {
     if (progress && i > 0) progress(i, truths.size());
     const auto t0 = Clock::now();
     renderer.render(*sky, truths[i].sun, f);

@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "render/scene.h"
+#include "scene/scene.h"
 
 namespace skypol::render {
 
@@ -19,7 +19,7 @@ struct RenderReport {
 };
 
 // progress(done, total) is called after each frame (may be empty).
-RenderReport render_scene(const Scene& scene, const std::string& out_path,
+RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
                           const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 }  // namespace skypol::render

@@ -7,18 +7,18 @@
 #include "camera/orientation.h"
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
-#include "render/truth.h"
+#include "scene/truth.h"
 
 namespace skypol::render {
 
-Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times) {
+stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times) {
   if (!setup.lens) throw std::invalid_argument("record_stack: no lens");
   const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(setup.sky);
   auto cam = std::make_shared<camera::Camera>(
       setup.lens,
       camera::world_from_heading_tilt_roll(setup.heading_deg, setup.tilt_deg, setup.roll_deg));
   // make_truth reads the site, the sun options and the orientation angles from a scene.
-  Scene scene;
+  scene::Scene scene;
   scene.site = setup.site;
   scene.sun_options = setup.sun_options;
   scene.camera.heading_deg = setup.heading_deg;
@@ -29,29 +29,29 @@ Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>&
   options.bands = {setup.band};
   options.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
   const Renderer renderer(cam, options);
-  Stack stack;
+  stack::Stack stack;
   stack.camera = cam;
   stack.bands = {setup.band};
   for (const sky::Instant t : times) {
-    const Truth truth = make_truth(scene, *cam, t);
-    Frame f = renderer.render(*sky_model, truth.sun);
+    const scene::Truth truth = scene::make_truth(scene, *cam, t);
+    stack::Frame f = renderer.render(*sky_model, truth.sun);
     f.truth = truth;
     stack.frames.push_back(std::move(f));
   }
   return stack;
 }
 
-Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor) {
+stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor) {
   if (sensor.color_filter != camera::ColorFilter::none)
     throw std::invalid_argument("through_sensor: colour sensors are not supported here");
-  Stack out;
+  stack::Stack out;
   out.camera = ideal.camera;
   out.bands = ideal.bands;
   out.camera_description = ideal.camera_description;
   out.scene_text = ideal.scene_text;
   if (ideal.frames.empty()) return out;
   const int w = ideal.frames.front().width, h = ideal.frames.front().height;
-  SensorSpec spec;
+  scene::SensorSpec spec;
   spec.dofp = sensor;
   spec.dofp.width = w;
   spec.dofp.height = h;
@@ -63,8 +63,8 @@ Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor) {
   const std::vector<float>& mask = ideal.frames.front().channel("mask");
 
   for (std::size_t i = 0; i < ideal.frames.size(); ++i) {
-    const Frame& f = ideal.frames[i];
-    Frame g;
+    const stack::Frame& f = ideal.frames[i];
+    stack::Frame g;
     g.width = w;
     g.height = h;
     g.truth = f.truth;

@@ -12,7 +12,7 @@
 
 #include "camera/dofp_sensor.h"
 #include "camera/lens.h"
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "sky/sky_spec.h"
 #include "sky/sun.h"
 #include "sky/time.h"
@@ -30,9 +30,9 @@ struct RecordingSetup {
 
 // One frame per time, in the given order, with channels S0, S1, S2, DoLP, AoLP (sensor frame) of
 // `band` and mask, and the truth (sun from ERFA with setup.sun_options, orientation, the visible
-// celestial pole and its pixel, as render/truth.h's make_truth). Throws std::invalid_argument
+// celestial pole and its pixel, as scene/truth.h's make_truth). Throws std::invalid_argument
 // for a missing lens or an invalid sky spec.
-Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times);
+stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times);
 
 // The stack a DoFP camera delivers: each frame's S0–S2 through the scene sensor stage
 // (render/sensor_stage.h: simulate_raw with frame index i and the sensor's seed, the nominal
@@ -41,6 +41,6 @@ Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>&
 // pixels beyond it and its DoLP is wrong. Only DoLP, AoLP and mask are kept. The sensor's width
 // and height are set to the stack's. Mono sensors only; throws std::invalid_argument for a colour
 // sensor or frames without S0–S2.
-Stack through_sensor(const Stack& ideal, camera::DofpSensor sensor);
+stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor);
 
 }  // namespace skypol::render

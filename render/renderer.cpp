@@ -10,7 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "render/occlusion_pass.h"
-#include "render/polarization_math.h"
+#include "stack/polarization_math.h"
 #include "sky/vector_clones.h"
 
 namespace skypol::render {
@@ -56,14 +56,14 @@ struct Outputs {
 
 // Gives `frame` exactly the channels these options name, each of n floats (storage reused where it
 // fits), and returns where to write.
-Outputs prepare(Frame& frame, const RenderOptions& o, int w, int h) {
+Outputs prepare(stack::Frame& frame, const RenderOptions& o, int w, int h) {
   frame.width = w;
   frame.height = h;
   const std::vector<std::string> names = channel_names(o);
   std::erase_if(frame.channels,
                 [&](const auto& c) { return std::find(names.begin(), names.end(), c.first) == names.end(); });
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  for (const std::string& name : names) size_channel(frame.channels[name], n);
+  for (const std::string& name : names) stack::size_channel(frame.channels[name], n);
 
   Outputs out;
   const std::string& b0 = o.bands.front();
@@ -92,10 +92,10 @@ Outputs prepare(Frame& frame, const RenderOptions& o, int w, int h) {
 SKYPOL_VECTOR_CLONES void derive(std::size_t n, const float* __restrict s0, const float* __restrict s1, const float* __restrict s2,
             float* __restrict dolp, float* __restrict aolp) {
   if (dolp) {
-    for (std::size_t j = 0; j < n; ++j) dolp[j] = dolp_of(s0[j], s1[j], s2[j]);
+    for (std::size_t j = 0; j < n; ++j) dolp[j] = stack::dolp_of(s0[j], s1[j], s2[j]);
   }
   if (aolp) {
-    for (std::size_t j = 0; j < n; ++j) aolp[j] = aolp_of(s1[j], s2[j]);
+    for (std::size_t j = 0; j < n; ++j) aolp[j] = stack::aolp_of(s1[j], s2[j]);
   }
 }
 
@@ -112,7 +112,7 @@ void clear_unseen(std::size_t n, const float* weight, const sky::StokesSoA& s) {
   for (float* plane : {s.s0, s.s1, s.s2, s.s3}) clear_unseen(n, weight, plane);
 }
 
-// Shaded occluders: their unpolarized light on top of what the sky gives (render/occluder_spec.h).
+// Shaded occluders: their unpolarized light on top of what the sky gives (scene/occluder_spec.h).
 void add_surface(std::size_t n, const float* __restrict surface, float* __restrict s0) {
   for (std::size_t j = 0; j < n; ++j) s0[j] += surface[j];
 }
@@ -145,7 +145,7 @@ Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions o
     if (!surface_s0_.empty()) shade_sampled();
     return;
   }
-  for (std::vector<float>* plane : {&dx_, &dy_, &dz_, &ux_, &uy_, &uz_, &weight_}) size_channel(*plane, n);
+  for (std::vector<float>* plane : {&dx_, &dy_, &dz_, &ux_, &uy_, &uz_, &weight_}) stack::size_channel(*plane, n);
   spans_.resize(static_cast<std::size_t>(h));
   struct Scratch {
     std::vector<sky::ViewRay> rays;
@@ -242,13 +242,13 @@ void Renderer::trace_tile(int y0, int y1, std::span<sky::ViewRay> rays, std::spa
   if (occluders_) apply_occluders(*occluders_, rays.first(k), weight.first(k), surface_s0);
 }
 
-Frame Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun) const {
-  Frame frame;
+stack::Frame Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun) const {
+  stack::Frame frame;
   render(sky, sun, frame);
   return frame;
 }
 
-void Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const {
+void Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const {
   if (options_.spp == 1) {
     render_cached(sky, sun, frame);
   } else {
@@ -256,8 +256,8 @@ void Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun, Frame& fram
   }
 }
 
-Frame Renderer::new_frame() const {
-  Frame frame;
+stack::Frame Renderer::new_frame() const {
+  stack::Frame frame;
   prepare(frame, options_, camera_->width(), camera_->height());
   return frame;
 }
@@ -265,7 +265,7 @@ Frame Renderer::new_frame() const {
 // One sample per pixel from the cached planes: per row, the model over the span of sky-seeing
 // pixels in chunks, written straight into the frame's channels (scratch for the Stokes components
 // the scene does not keep); zeros outside the span.
-void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const {
+void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
   const Outputs out = prepare(frame, options_, w, h);
   const bool projected = camera_->transport() == camera::Transport::projected;
@@ -294,7 +294,7 @@ void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Fram
           for (std::size_t j = 0; j < n; ++j) {
             if (weight[j] == 0) continue;
             const sky::ViewRay r{{dx_[i + j], dy_[i + j], dz_[i + j]}, {ux_[i + j], uy_[i + j], uz_[i + j]}};
-            const sky::StokesF p = to_projected(*camera_, r, {s.s0[j], s.s1[j], s.s2[j], s.s3[j]});
+            const sky::StokesF p = stack::to_projected(*camera_, r, {s.s0[j], s.s1[j], s.s2[j], s.s3[j]});
             s.s0[j] = p.s0, s.s1[j] = p.s1, s.s2[j] = p.s2, s.s3[j] = p.s3;
           }
         }
@@ -310,7 +310,7 @@ void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Fram
 
 // N samples per pixel: rays traced per tile and frame, Stokes averaged per pixel (samples that do
 // not see the sky count as black), the mask is the covered fraction.
-void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const {
+void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
   const Outputs out = prepare(frame, options_, w, h);
   const bool projected = camera_->transport() == camera::Transport::projected;
@@ -335,7 +335,7 @@ void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Fra
     sky.stokes(sc.rays, sun, sc.stokes);
     if (projected) {
       for (std::size_t i = 0; i < sc.rays.size(); ++i) {
-        if (sc.weight[i] > 0) sc.stokes[i] = to_projected(*camera_, sc.rays[i], sc.stokes[i]);
+        if (sc.weight[i] > 0) sc.stokes[i] = stack::to_projected(*camera_, sc.rays[i], sc.stokes[i]);
       }
     }
     sc.acc.resize(5 * pixels);

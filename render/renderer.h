@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "camera/camera.h"
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "render/occluders.h"
 #include "sky/sky_model.h"
 
@@ -41,16 +41,16 @@ class Renderer {
            std::shared_ptr<const Occluders> occluders = nullptr);
 
   // The channels of one frame (Truth is left default; the caller fills it).
-  Frame render(const sky::SkyModel& sky, const sky::Sun& sun) const;
+  stack::Frame render(const sky::SkyModel& sky, const sky::Sun& sun) const;
 
   // The same into `frame`, whose channels become exactly channel_names(options()): storage of the
   // right size is reused, so a caller rendering a series into one frame allocates (and
   // page-faults) only once. Every value is rewritten; the frame's truth is left as it was.
-  void render(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
+  void render(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const;
 
   // A frame with every channel allocated (zeros), for render(sky, sun, frame): lets a caller pay
   // for the memory before timing or rendering starts.
-  Frame new_frame() const;
+  stack::Frame new_frame() const;
 
   const camera::Camera& camera() const { return *camera_; }
   const RenderOptions& options() const { return options_; }
@@ -63,8 +63,8 @@ class Renderer {
                   std::span<float> surface_s0 = {}) const;
   // Shaded occluders at spp > 1: surface_s0_ as the mean over each pixel's samples.
   void shade_sampled();
-  void render_cached(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
-  void render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, Frame& frame) const;
+  void render_cached(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const;
+  void render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const;
 
   std::shared_ptr<const camera::Camera> camera_;
   RenderOptions options_;

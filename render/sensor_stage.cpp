@@ -3,21 +3,21 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "render/polarization_math.h"
+#include "stack/polarization_math.h"
 
 namespace skypol::render {
 namespace {
 
 // A band's S0–S2 channels as the demosaic's output planes: their storage is reused (moved out of
 // the frame and back by finish_band), so a frame the renderer reuses costs no allocation here.
-camera::StokesPlanes take_planes(const std::string& band, Frame& frame) {
+camera::StokesPlanes take_planes(const std::string& band, stack::Frame& frame) {
   return {std::move(frame.channel("S0." + band)), std::move(frame.channel("S1." + band)),
           std::move(frame.channel("S2." + band))};
 }
 
 // Masked pixels hold zeros; the others get DoLP and AoLP from the measured Stokes.
 void finish_band(const std::string& band, const std::vector<float>* mask, camera::StokesPlanes&& measured,
-                 Frame& frame) {
+                 stack::Frame& frame) {
   const std::size_t n = measured.s0.size();
   if (mask) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -26,11 +26,11 @@ void finish_band(const std::string& band, const std::vector<float>* mask, camera
   }
   if (frame.has("DoLP." + band)) {
     std::vector<float>& dolp = frame.channel("DoLP." + band);
-    for (std::size_t i = 0; i < n; ++i) dolp[i] = dolp_of(measured.s0[i], measured.s1[i], measured.s2[i]);
+    for (std::size_t i = 0; i < n; ++i) dolp[i] = stack::dolp_of(measured.s0[i], measured.s1[i], measured.s2[i]);
   }
   if (frame.has("AoLP." + band)) {
     std::vector<float>& aolp = frame.channel("AoLP." + band);
-    for (std::size_t i = 0; i < n; ++i) aolp[i] = aolp_of(measured.s1[i], measured.s2[i]);
+    for (std::size_t i = 0; i < n; ++i) aolp[i] = stack::aolp_of(measured.s1[i], measured.s2[i]);
   }
   if (frame.has(band)) frame.channel(band) = measured.s0;  // the R, G, B display channels
   frame.channel("S0." + band) = std::move(measured.s0);
@@ -65,8 +65,8 @@ std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
   return names;
 }
 
-void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
-                  Frame& frame, bool keep_raw) {
+void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
+                  stack::Frame& frame, bool keep_raw) {
   const camera::DofpSensor& d = sensor.dofp;
   if (frame.width != d.width || frame.height != d.height) {
     throw std::invalid_argument("sensor: the frame's size differs from the sensor's");

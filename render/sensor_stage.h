@@ -2,7 +2,7 @@
 // division-of-focal-plane sensor (camera/dofp_sensor.h: polarizer mosaic, shot, dark and read noise,
 // full well, ADC) and back through the demosaic, as a real polarization camera's pipeline gives
 // them. DoLP and AoLP are then recomputed from the measured Stokes with the usual rules
-// (render/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
+// (stack/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
 // zeros, as without a sensor; so do their 8 neighbours, whose demosaic mixed in those dark pixels
 // (the mask is eroded by one pixel). Run only when the scene has a [sensor] section.
 #pragma once
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "render/frame.h"
-#include "render/scene.h"
+#include "stack/frame.h"
+#include "scene/scene.h"
 
 namespace skypol::render {
 
@@ -24,7 +24,7 @@ std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands);
 // keep_raw: also store the raw mosaic (DN, exact in float) as channel "raw".
 // Mono sensors need one band; colour (rggb_blocks) sensors need bands R, G, B. Throws
 // std::invalid_argument otherwise (the scene loader checks this first).
-void apply_sensor(const SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
-                  Frame& frame, bool keep_raw = false);
+void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
+                  stack::Frame& frame, bool keep_raw = false);
 
 }  // namespace skypol::render

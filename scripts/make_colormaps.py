@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Prints the colour-map tables of render/colormap.cpp. Both maps are designed in Oklab
+"""Prints the colour-map tables of stack/colormap.cpp. Both maps are designed in Oklab
 (Björn Ottosson's perceptual colour space, 2020) and written as sRGB control points:
 
   perceptual (DoLP): lightness rising linearly from 0.28 to 0.92 while the hue turns from

@@ -38,7 +38,7 @@ def box(x0, x1, y0, y1, z0, z1):
         for y in (y0, y1):
             for x in (x0, x1):
                 out.append(f"v {num(x)} {num(y)} {num(z)}")
-    # Corners -8..-1: bit 0 = +x, bit 1 = +y, bit 2 = top (as in render/box_mesh.cpp).
+    # Corners -8..-1: bit 0 = +x, bit 1 = +y, bit 2 = top (as in scene/box_mesh.cpp).
     for face in ((-4, -3, -1, -2),      # top
                  (-8, -7, -3, -4),      # South
                  (-6, -2, -1, -5),      # North

@@ -70,7 +70,7 @@ def render(r, g):
         "the paper's α (eq. 3, from the local meridian), drawn in their map view (East to the right, North up). "
         "The paper's “azimuth 90°” is read in the frame of its eqs. 3 and 9–21 (φ counted from East towards "
         "North), i.e. the sun due North; the pattern only turns with the sun's azimuth. Pixels: the renderer's "
-        "meridional transport (`render/imaging_modes.h`).\n")
+        "meridional transport (`studies/imaging_modes.h`).\n")
     rows = []
     for m in g["MODES"]:
         mx, mean, share = r["fig7"][m]

@@ -91,7 +91,7 @@ ThresholdMode parse_threshold_mode(std::string_view name) {
 }
 std::string_view threshold_mode_name(ThresholdMode m) { return enum_name(kThresholdModeNames, m); }
 
-ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& params) {
+ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "classic";
   if (params.pairs == PairMode::interval && params.interval < 1)

@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
 
@@ -71,6 +71,6 @@ struct ClassicResult {
 
 // Needs at least 3 frames (2 differences; PairMode::interval: interval + 2 frames).
 // Throws std::invalid_argument for unusable input (estimate.h, "Failures").
-ClassicResult estimate_classic(const render::Stack& stack, const ClassicParams& params = {});
+ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& params = {});
 
 }  // namespace skypol::skypole

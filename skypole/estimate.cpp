@@ -46,7 +46,7 @@ double wrap360(double deg) {
   return a;
 }
 
-Score score(const PoleEstimate& estimate, const render::Truth& truth) {
+Score score(const PoleEstimate& estimate, const scene::Truth& truth) {
   if (!estimate.valid)
     throw std::invalid_argument("cannot score an invalid " + estimate.method +
                                 " estimate: " + estimate.why_invalid);

@@ -39,7 +39,7 @@
 
 #include <Eigen/Core>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 
 namespace skypol::skypole {
 
@@ -104,7 +104,7 @@ struct Score {
 };
 
 // Throws std::invalid_argument for an invalid estimate (naming why it is invalid).
-Score score(const PoleEstimate& estimate, const render::Truth& truth);
+Score score(const PoleEstimate& estimate, const scene::Truth& truth);
 
 // Angle wrapped to (−180, 180] and to [0, 360), degrees.
 double wrap180(double deg);

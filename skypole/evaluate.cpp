@@ -45,7 +45,7 @@ const std::vector<std::string>& method_names() {
   return names;
 }
 
-PoleEstimate run_method(const render::Stack& stack, std::string_view method,
+PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input) {
   if (method == "classic") {
     ClassicParams p;

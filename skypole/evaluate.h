@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "skypole/estimate.h"
 
 namespace skypol::skypole {
@@ -21,13 +21,13 @@ const std::vector<std::string>& method_names();
 
 // Runs the named method with its defaults and the given input options. Throws
 // std::invalid_argument for an unknown name (listing the legal ones) or unusable input.
-PoleEstimate run_method(const render::Stack& stack, std::string_view method,
+PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input = {});
 
 struct EvaluationRow {
   std::string dataset;    // e.g. the stack's file name
   PoleEstimate estimate;  // estimate.method names the method
-  render::Truth truth;    // the stack's truth (frame 0)
+  scene::Truth truth;    // the stack's truth (frame 0)
 };
 
 struct Stats {

@@ -278,7 +278,7 @@ DriftModel parse_drift_model(std::string_view name) {
 }
 std::string_view drift_model_name(DriftModel m) { return enum_name(kDriftModelNames, m); }
 
-GreatCircleResult estimate_great_circle(const render::Stack& stack, const GreatCircleParams& params) {
+GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCircleParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "great_circle";
   if (params.pairs == PairMode::interval && params.interval < 1)

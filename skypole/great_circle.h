@@ -37,7 +37,7 @@
 
 #include <Eigen/Core>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
 
@@ -86,7 +86,7 @@ struct GreatCircleResult {
 };
 
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
-GreatCircleResult estimate_great_circle(const render::Stack& stack,
+GreatCircleResult estimate_great_circle(const stack::Stack& stack,
                                         const GreatCircleParams& params = {});
 
 }  // namespace skypol::skypole

@@ -56,7 +56,7 @@ Eigen::MatrixXd residual_projector(const std::vector<double>& tau, bool linear) 
 
 // The sun's motion since the middle instant, from the frames' times (ERFA; the changes of hour
 // angle and declination do not depend on the site), and the suns the images show.
-SunMotion sun_motion(const render::Stack& stack, const std::vector<std::optional<Eigen::Vector3d>>& suns,
+SunMotion sun_motion(const stack::Stack& stack, const std::vector<std::optional<Eigen::Vector3d>>& suns,
                      bool drift) {
   SunMotion m;
   const sky::Instant mid{0.5 * (stack.frames.front().truth.time.unix_seconds +
@@ -85,7 +85,7 @@ std::string_view detrend_name(Detrend d) { return enum_name(kDetrendNames, d); }
 Refine parse_refine(std::string_view name) { return enum_from_name(kRefineNames, name, "refine"); }
 std::string_view refine_name(Refine r) { return enum_name(kRefineNames, r); }
 
-InvarianceResult estimate_invariance(const render::Stack& stack, const InvarianceParams& params) {
+InvarianceResult estimate_invariance(const stack::Stack& stack, const InvarianceParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "invariance";
   if (!(params.coarse_step_deg > 0.05 && params.coarse_step_deg <= 20))

@@ -38,7 +38,7 @@
 
 #include <optional>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
 
@@ -91,6 +91,6 @@ struct InvarianceResult {
 };
 
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
-InvarianceResult estimate_invariance(const render::Stack& stack, const InvarianceParams& params = {});
+InvarianceResult estimate_invariance(const stack::Stack& stack, const InvarianceParams& params = {});
 
 }  // namespace skypol::skypole

@@ -20,20 +20,20 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-std::string channel_list(const render::Frame& f) {
+std::string channel_list(const stack::Frame& f) {
   std::string s;
   for (const auto& [name, data] : f.channels) s += (s.empty() ? "" : ", ") + name;
   return s.empty() ? std::string("none") : s;
 }
 
-std::string frame_label(const render::Frame& f, std::size_t index) {
+std::string frame_label(const stack::Frame& f, std::size_t index) {
   std::ostringstream os;
   os << "frame " << index;
   if (f.truth.time.unix_seconds != 0) os << " (" << sky::format_iso8601(f.truth.time) << ")";
   return os.str();
 }
 
-std::string pick_band(const render::Stack& stack, const InputOptions& options) {
+std::string pick_band(const stack::Stack& stack, const InputOptions& options) {
   if (!options.band.empty()) return options.band;
   for (const auto& b : stack.bands)
     if (b == "B") return b;
@@ -43,14 +43,14 @@ std::string pick_band(const render::Stack& stack, const InputOptions& options) {
   return "Y";
 }
 
-const std::vector<float>* find_channel(const render::Frame& f, const std::string& name) {
+const std::vector<float>* find_channel(const stack::Frame& f, const std::string& name) {
   const auto it = f.channels.find(name);
   return it == f.channels.end() ? nullptr : &it->second;
 }
 
 }  // namespace
 
-SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& options,
+SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& options,
                              std::size_t min_frames, std::string_view method) {
   const std::string m(method);
   if (!stack.camera)
@@ -80,7 +80,7 @@ SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& opt
 
   sky.valid.assign(n, 1);
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
-    const render::Frame& f = stack.frames[k];
+    const stack::Frame& f = stack.frames[k];
     if (f.width != sky.width || f.height != sky.height)
       throw std::invalid_argument(m + ": " + frame_label(f, k) + " is " + std::to_string(f.width) +
                                   "×" + std::to_string(f.height) + ", the camera is " +
@@ -136,12 +136,12 @@ SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& opt
   return sky;
 }
 
-std::vector<std::vector<float>> aolp_channels(const render::Stack& stack, const SkyImages& sky,
+std::vector<std::vector<float>> aolp_channels(const stack::Stack& stack, const SkyImages& sky,
                                               std::string_view method) {
   const std::string name = "AoLP." + sky.band;
   std::vector<std::vector<float>> out;
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
-    const render::Frame& f = stack.frames[k];
+    const stack::Frame& f = stack.frames[k];
     const std::vector<float>* a = find_channel(f, name);
     if (!a)
       throw std::invalid_argument(std::string(method) + ": " + frame_label(f, k) + " has no \"" +
@@ -320,7 +320,7 @@ PoleEstimate make_estimate(std::string method, const SkyImages& sky,
   e.valid = true;
   const Eigen::Vector3d ncp = ncp_camera.normalized();
   const Eigen::Vector3d ncp_level = sky.level_from_camera * ncp;
-  e.is_north = ncp_level.z() >= 0;  // at the equator exactly, north (as render::Truth does)
+  e.is_north = ncp_level.z() >= 0;  // at the equator exactly, north (as scene::Truth does)
   e.pole_camera = e.is_north ? ncp : Eigen::Vector3d(-ncp);
   e.pole_level = sky.level_from_camera * e.pole_camera;
   const Eigen::Vector3d& p = e.pole_level;

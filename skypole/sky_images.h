@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "camera/lens.h"
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "skypole/estimate.h"
 
 namespace skypol::skypole {
@@ -39,9 +39,9 @@ struct SkyImages {
 // Checks `stack` for `method` (which needs at least `min_frames` frames) and prepares it.
 // With `need_aolp`, the "AoLP.<band>" channel is required and returned in `aolp` (per frame).
 // Throws std::invalid_argument with a message naming the method, frame and channel.
-SkyImages prepare_sky_images(const render::Stack& stack, const InputOptions& options,
+SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& options,
                              std::size_t min_frames, std::string_view method);
-std::vector<std::vector<float>> aolp_channels(const render::Stack& stack, const SkyImages& sky,
+std::vector<std::vector<float>> aolp_channels(const stack::Stack& stack, const SkyImages& sky,
                                               std::string_view method);
 
 // The default disk-filter radius for an image: 0.5 % of the shorter side, at least 1 px

@@ -119,7 +119,7 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
   return s;
 }
 
-SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorParams& params) {
+SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;

@@ -29,7 +29,7 @@
 
 #include <Eigen/Core>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "skypole/estimate.h"
 #include "skypole/invariance.h"  // Detrend
 #include "skypole/sky_images.h"
@@ -78,6 +78,6 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
                                              double* rms = nullptr);
 
 // SunSource::aolp needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
-SunVectorResult estimate_sun_vector(const render::Stack& stack, const SunVectorParams& params = {});
+SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params = {});
 
 }  // namespace skypol::skypole

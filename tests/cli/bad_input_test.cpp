@@ -110,7 +110,7 @@ TEST_CASE("bad input: a shard outside 1..N", "[cli][errors]") {
   dir.write("base.toml", kScene);
   const std::string sweep = dir.write("sweep.toml", "base = \"base.toml\"\n[axes]\n\"camera.heading_deg\" = [0, 90]\n");
   const fs::path out = dir.path / "out";
-  // Malformed shards ("two/3", "3", "0/3") are parse_shard's unit test (render/sweep_test.cpp).
+  // Malformed shards ("two/3", "3", "0/3") are parse_shard's unit test (scene/sweep_test.cpp).
   const Result r = run("sweep " + sweep + " -o " + out.string() + " --shard 4/3");
   INFO(r.out);
   CHECK(r.code == 2);

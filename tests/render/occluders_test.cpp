@@ -19,12 +19,12 @@
 #include "render/occluders_embree.h"
 #include "render/pipeline.h"
 #include "render/renderer.h"
-#include "render/stack_io.h"
+#include "stack/stack_io.h"
 #include "sky/rayleigh.h"
 
 using namespace skypol;
-using render::BoxSpec;
-using render::OccluderSpec;
+using scene::BoxSpec;
+using scene::OccluderSpec;
 
 namespace {
 
@@ -99,11 +99,11 @@ std::vector<BoxSpec> some_boxes() {
 }
 
 // An independent reading of the horizon rule: linear in azimuth, wrapping through 360°.
-double profile_at(const std::vector<render::HorizonPoint>& p, double az) {
+double profile_at(const std::vector<scene::HorizonPoint>& p, double az) {
   if (p.size() == 1) return p[0].elevation_deg;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const render::HorizonPoint& a = p[i];
-    const render::HorizonPoint& b = p[(i + 1) % p.size()];
+    const scene::HorizonPoint& a = p[i];
+    const scene::HorizonPoint& b = p[(i + 1) % p.size()];
     const double b_az = i + 1 < p.size() ? b.azimuth_deg : b.azimuth_deg + 360;
     for (double shift : {0.0, 360.0}) {
       const double x = az + shift;
@@ -134,7 +134,7 @@ sky::Sun sun_at(double az_deg, double el_deg) {
 }
 
 // A scene file of the repository read with 8×8 binning (306×256 px).
-render::Scene small_scene(const std::string& rel) { return render::load_scene(source(rel), {{"camera.binning", "8"}}); }
+scene::Scene small_scene(const std::string& rel) { return scene::load_scene(source(rel), {{"camera.binning", "8"}}); }
 
 void write_file(const std::filesystem::path& p, const std::string& text) {
   std::ofstream(p) << text;
@@ -172,16 +172,16 @@ fov_deg = 185
 
 std::string error_of(const std::string& text, const std::string& file = "bad.toml") {
   try {
-    render::parse_scene(text, file);
-  } catch (const render::SceneError& e) {
+    scene::parse_scene(text, file);
+  } catch (const scene::SceneError& e) {
     return e.what();
   }
   return "no error";
 }
 
 void check_all_finite(const std::string& stack_path) {
-  const render::Stack stack = render::read_stack(stack_path);
-  for (const render::Frame& f : stack.frames) {
+  const stack::Stack stack = stack::read_stack(stack_path);
+  for (const stack::Frame& f : stack.frames) {
     for (const auto& [name, values] : f.channels) {
       INFO(stack_path << " channel " << name);
       CHECK(std::count_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); }) == 0);
@@ -223,7 +223,7 @@ TEST_CASE("the renderer's mask is 0 exactly where the pixel's ray meets a box", 
   for (double tilt : {0.0, 60.0}) {
     const auto cam = fisheye(120, 100, 25, tilt);
     const render::Renderer r(cam, render::RenderOptions{}, render::make_occluders(spec));
-    const render::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun_at(120, 35));
+    const stack::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun_at(120, 35));
     const auto& mask = f.channel("mask");
     const auto& s0 = f.channel("S0.Y");
     int blocked = 0;
@@ -263,7 +263,7 @@ yaw_deg = 40
 scale = 8
 up_axis = ")" + (y_up ? "y" : "z") + "\"\n";
     write_file(dir / "scene.toml", scene);
-    const render::Scene s = render::load_scene((dir / "scene.toml").string());
+    const scene::Scene s = scene::load_scene((dir / "scene.toml").string());
     REQUIRE(s.occluders.meshes.size() == 1);
     CHECK(s.occluders.meshes[0].triangles.size() == 12);  // six quads, triangulated
     const auto occ = render::make_occluders(s.occluders);
@@ -284,7 +284,7 @@ up_axis = ")" + (y_up ? "y" : "z") + "\"\n";
 }
 
 TEST_CASE("the horizon blocks every direction below its profile and none above", "[occluders][horizon]") {
-  using render::HorizonPoint;
+  using scene::HorizonPoint;
   const std::vector<std::vector<HorizonPoint>> profiles{
       {{10, 5}, {95, 22}, {180, -3}, {200, 40}, {300, 1}},  // wraps from 300° to 10°
       {{0, 0}},                                             // a flat horizon
@@ -329,7 +329,7 @@ TEST_CASE("shaded occluders hold an unpolarized Lambertian surface under a unifo
   spec.observer_height_m = 50;
   spec.boxes = {{Eigen::Vector3d(0, 30, 0), Eigen::Vector3d(40, 2, 100), 0},
                 {Eigen::Vector3d(0, -30, 0), Eigen::Vector3d(40, 20, 10), 0}};
-  spec.occluded_pixels = render::OccludedPixels::shaded;
+  spec.occluded_pixels = scene::OccludedPixels::shaded;
   spec.surface_albedo = 0.4;
   const auto occ = render::make_occluders(spec);
   REQUIRE(occ->shaded());
@@ -348,7 +348,7 @@ TEST_CASE("shaded occluders hold an unpolarized Lambertian surface under a unifo
     o.spp = spp;
     const auto cam = fisheye(64, 64, 0, 90);  // looking North, horizontally
     const render::Renderer r(cam, o, occ);
-    const render::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun_at(200, 40));
+    const stack::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun_at(200, 40));
     const std::size_t centre = static_cast<std::size_t>(32 * 64 + 32);
     CHECK(f.channel("mask")[centre] == 0.0f);
     CHECK(f.channel("S0.Y")[centre] == Approx(0.2).margin(1e-6));
@@ -361,23 +361,23 @@ TEST_CASE("a scene without occluders creates no Embree device; one with them cre
   CHECK(render::make_occluders(OccluderSpec{}) == nullptr);
   const auto dir = temp_dir("pay");
   const std::size_t before = render::embree_devices_created();
-  render::render_scene(render::parse_scene(kSceneHead, "plain.toml"), (dir / "plain.exr").string());
+  render::render_scene(scene::parse_scene(kSceneHead, "plain.toml"), (dir / "plain.exr").string());
   CHECK(render::embree_devices_created() == before);
   const std::string with = std::string(kSceneHead) + "[occluders]\nhorizon = [[0, 10]]\n";
-  render::render_scene(render::parse_scene(with, "with.toml"), (dir / "with.exr").string());
+  render::render_scene(scene::parse_scene(with, "with.toml"), (dir / "with.exr").string());
   CHECK(render::embree_devices_created() == before + 1);
 }
 
 TEST_CASE("the occluder scenes load, hold what they say, and render without NaN or Inf", "[occluders][scenes]") {
-  const render::Scene urban = small_scene("scenes/urban-canyon.toml");
+  const scene::Scene urban = small_scene("scenes/urban-canyon.toml");
   const std::size_t triangles = render::triangle_count(render::occluder_meshes(urban.occluders));
   CHECK(triangles >= 10000);
   CHECK(urban.occluders.boxes.size() == 13);
-  const render::Scene mountains = small_scene("scenes/mountain-horizon.toml");
-  CHECK(mountains.occluders.occluded_pixels == render::OccludedPixels::shaded);
+  const scene::Scene mountains = small_scene("scenes/mountain-horizon.toml");
+  CHECK(mountains.occluders.occluded_pixels == scene::OccludedPixels::shaded);
   const auto dir = temp_dir("scenes");
-  for (const render::Scene* s : {&urban, &mountains}) {
-    render::Scene one = *s;
+  for (const scene::Scene* s : {&urban, &mountains}) {
+    scene::Scene one = *s;
     one.times.resize(2);
     one.output.previews = false;
     const std::string out = (dir / "stack.exr").string();
@@ -385,12 +385,12 @@ TEST_CASE("the occluder scenes load, hold what they say, and render without NaN 
     check_all_finite(out);
   }
   // The mountain stack's mask is the profile seen through the lens, pixel by pixel.
-  render::Scene one = mountains;
+  scene::Scene one = mountains;
   one.times.resize(1);
   one.output.previews = false;
   const std::string out = (dir / "mountains.exr").string();
   render::render_scene(one, out);
-  const render::Stack stack = render::read_stack(out);
+  const stack::Stack stack = stack::read_stack(out);
   const auto& mask = stack.frames[0].channel("mask");
   const auto& s0 = stack.frames[0].channel("S0.Y");
   std::size_t checked = 0;
@@ -417,7 +417,7 @@ TEST_CASE("a relative mesh path resolves against the scene file", "[occluders][o
   std::filesystem::create_directories(dir / "meshes");
   write_file(dir / "meshes" / "cube.obj", cube_obj(false));
   write_file(dir / "scene.toml", std::string(kSceneHead) + "[occluders]\n[[occluders.mesh]]\npath = \"meshes/cube.obj\"\nposition_m = [0, 10, 0]\n");
-  const render::Scene s = render::load_scene((dir / "scene.toml").string());
+  const scene::Scene s = scene::load_scene((dir / "scene.toml").string());
   CHECK(s.occluders.meshes.at(0).path == std::filesystem::absolute(dir / "meshes" / "cube.obj").lexically_normal().string());
 }
 
@@ -469,7 +469,7 @@ TEST_CASE("hard cases with occluders: every value finite, the nadir blocked, the
   spec.horizon = {{0, -5}, {90, 30}, {180, 0}, {270, 85}};
   spec.boxes = {{Eigen::Vector3d(0, 8, 0), Eigen::Vector3d(4, 4, 30), 45}};
   spec.observer_height_m = 1.6;
-  for (auto rule : {render::OccludedPixels::masked, render::OccludedPixels::shaded}) {
+  for (auto rule : {scene::OccludedPixels::masked, scene::OccludedPixels::shaded}) {
     spec.occluded_pixels = rule;
     const auto occ = render::make_occluders(spec);
     for (double tilt : {0.0, 90.0, 180.0}) {  // zenith, level, nadir: the floor's centre vertex
@@ -480,7 +480,7 @@ TEST_CASE("hard cases with occluders: every value finite, the nadir blocked, the
         const auto cam = fisheye(40, 40, 0, tilt);
         const render::Renderer r(cam, o, occ);
         for (const sky::Sun& sun : {sun_at(0, 90), sun_at(10, -10), sun_at(300, 0)}) {
-          const render::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun);
+          const stack::Frame f = r.render(sky::RayleighSky(sky::RayleighParams{1.0}), sun);
           for (const auto& [name, values] : f.channels) {
             for (float v : values) REQUIRE(std::isfinite(v));
           }
@@ -500,7 +500,7 @@ TEST_CASE("the hard-case scenes with occluders added: no NaN or Inf in any file"
     const std::string name = e.path().filename().string();
     if (name.rfind("hard-", 0) != 0 || e.path().extension() != ".toml") continue;
     for (const char* rule : {"masked", "shaded"}) {
-      const render::Scene s = render::load_scene(
+      const scene::Scene s = scene::load_scene(
           e.path().string(), {{"camera.binning", "16"},
                               {"occluders.horizon", "[[0, -2], [90, 25], [200, 3], [300, 60]]"},
                               {"occluders.box", "[{position_m = [3, 9, 0], size_m = [4, 6, 30], yaw_deg = 20}]"},

@@ -29,9 +29,9 @@ render::RecordingSetup setup() {
 
 TEST_CASE("recorded frames carry the truth and the channels the estimators read", "[render][recorded_stack]") {
   const auto times = {sky::parse_iso8601("2022-09-23T09:00:00Z"), sky::parse_iso8601("2022-09-23T10:00:00Z")};
-  const render::Stack st = render::record_stack(setup(), times);
+  const stack::Stack st = render::record_stack(setup(), times);
   REQUIRE(st.frames.size() == 2);
-  for (const render::Frame& f : st.frames) {
+  for (const stack::Frame& f : st.frames) {
     CHECK(f.truth.heading_deg == 40);
     CHECK(f.truth.site.latitude_deg == 43.28699);
     REQUIRE(f.truth.pole_pixel.has_value());
@@ -44,7 +44,7 @@ TEST_CASE("recorded frames carry the truth and the channels the estimators read"
 }
 
 TEST_CASE("a noise-free DoFP sensor returns the renderer's DoLP and AoLP", "[render][recorded_stack]") {
-  const render::Stack ideal = render::record_stack(setup(), {sky::parse_iso8601("2022-09-23T11:00:00Z")});
+  const stack::Stack ideal = render::record_stack(setup(), {sky::parse_iso8601("2022-09-23T11:00:00Z")});
   camera::DofpSensor s;
   s.shot_noise = false;
   s.read_noise_e = 0;
@@ -53,7 +53,7 @@ TEST_CASE("a noise-free DoFP sensor returns the renderer's DoLP and AoLP", "[ren
   s.full_well_e = 1e9;
   s.gain_dn_per_e = 1;
   s.electrons_per_radiance_s = 3e7;  // ≈ 30000 DN at radiance 1: quantization ≪ 1e-3
-  const render::Stack got = render::through_sensor(ideal, s);
+  const stack::Stack got = render::through_sensor(ideal, s);
   const auto& d0 = ideal.frames[0].channel("DoLP.Y");
   const auto& a0 = ideal.frames[0].channel("AoLP.Y");
   const auto& d1 = got.frames[0].channel("DoLP.Y");

@@ -14,7 +14,7 @@
 #include "camera/orientation.h"
 #include "camera/radial_lens.h"
 #include "render/renderer.h"
-#include "render/truth.h"
+#include "scene/truth.h"
 #include "sky/rayleigh.h"
 
 using namespace skypol;
@@ -48,7 +48,7 @@ TEST_CASE("each rendered pixel is the sky model at that pixel's ray", "[renderer
   const sky::RayleighSky sky_model(sky::RayleighParams{0.8});
   const sky::Sun sun = sun_at(120, 35);
   const render::Renderer r(cam, render::RenderOptions{});
-  const render::Frame f = r.render(sky_model, sun);
+  const stack::Frame f = r.render(sky_model, sun);
   const auto& dolp = f.channel("DoLP.Y");
   const auto& aolp = f.channel("AoLP.Y");
   const auto& s0 = f.channel("S0.Y");
@@ -86,13 +86,13 @@ TEST_CASE("the DoLP at the celestial pole's pixel is the same in every frame of 
   const auto cam = small_fisheye(0, 201, 201);
   const sky::RayleighSky sky_model;
   const render::Renderer r(cam, render::RenderOptions{});
-  const Eigen::Vector3d pole = render::visible_pole(lat);
+  const Eigen::Vector3d pole = scene::visible_pole(lat);
   const Eigen::Vector2d px = *cam->project(pole);
   const sky::Site site{lat, 5.40336, 60};
   std::vector<double> values;
   for (int hour = 6; hour <= 17; ++hour) {
     const sky::Sun sun = sky::sun_position(site, sky::Instant{1663891200.0 + 3600.0 * hour});
-    const render::Frame f = r.render(sky_model, sun);
+    const stack::Frame f = r.render(sky_model, sun);
     // Bilinear interpolation at the pole's exact pixel position.
     const auto& d = f.channel("DoLP.Y");
     const int x0 = static_cast<int>(std::floor(px.x())), y0 = static_cast<int>(std::floor(px.y()));
@@ -116,7 +116,7 @@ TEST_CASE("output is identical whatever the thread count", "[renderer][determini
     render::RenderOptions o;
     o.spp = spp;
     o.seed = 7;
-    render::Frame one, two;
+    stack::Frame one, two;
     {
       tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
       one = render::Renderer(cam, o).render(sky_model, sun);
@@ -138,7 +138,7 @@ TEST_CASE("supersampling converges on the pixel average and marks partial covera
   const sky::Sun sun = sun_at(90, 10);
   render::RenderOptions o;
   o.spp = 64;
-  const render::Frame f = render::Renderer(cam, o).render(sky_model, sun);
+  const stack::Frame f = render::Renderer(cam, o).render(sky_model, sun);
   const auto& mask = f.channel("mask");
   int partial = 0;
   for (float m : mask) {
@@ -157,7 +157,7 @@ TEST_CASE("no NaN or Inf for a sun at the zenith and below the horizon", "[rende
   const auto cam = small_fisheye();
   const sky::RayleighSky sky_model;
   for (double el : {90.0, 0.0, -10.0, -90.0}) {
-    const render::Frame f = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun_at(0, el));
+    const stack::Frame f = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun_at(0, el));
     for (const auto& [name, data] : f.channels) {
       for (float v : data) REQUIRE(std::isfinite(v));
     }
@@ -192,9 +192,9 @@ TEST_CASE("rendering into a used frame gives the bytes of a new frame and keeps 
     o.spp = spp;
     o.channels = {"S0", "S1", "S2", "S3", "DoLP", "AoLP", "mask"};
     const render::Renderer r(cam, o);
-    const render::Frame fresh = r.render(sky_model, sun_a);
+    const stack::Frame fresh = r.render(sky_model, sun_a);
 
-    render::Frame used = r.new_frame();
+    stack::Frame used = r.new_frame();
     // Garbage everywhere, a channel the options do not name, then another sun first.
     for (auto& [name, data] : used.channels) std::fill(data.begin(), data.end(), std::numeric_limits<float>::quiet_NaN());
     used.channels["junk"] = std::vector<float>(5, 1.0f);
@@ -217,10 +217,10 @@ TEST_CASE("a frame holds only the channels asked for, with the same values", "[r
   const auto cam = small_fisheye(5);
   const sky::RayleighSky sky_model;
   const sky::Sun sun = sun_at(160, 40);
-  const render::Frame all = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun);
+  const stack::Frame all = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun);
   render::RenderOptions only;
   only.channels = {"AoLP"};
-  const render::Frame f = render::Renderer(cam, only).render(sky_model, sun);
+  const stack::Frame f = render::Renderer(cam, only).render(sky_model, sun);
   REQUIRE(f.channels.size() == 1);
   CHECK(same_bytes(f.channel("AoLP.Y"), all.channel("AoLP.Y")));
 }
@@ -230,7 +230,7 @@ TEST_CASE("every band carries the first band's values; RGB adds R, G, B", "[rend
   const sky::RayleighSky sky_model;
   render::RenderOptions o;
   o.bands = {"R", "G", "B"};
-  const render::Frame f = render::Renderer(cam, o).render(sky_model, sun_at(10, 50));
+  const stack::Frame f = render::Renderer(cam, o).render(sky_model, sun_at(10, 50));
   for (const char* c : {"S0", "S1", "S2", "DoLP", "AoLP"}) {
     for (const char* b : {"G", "B"}) CHECK(same_bytes(f.channel(std::string(c) + "." + b), f.channel(std::string(c) + ".R")));
   }
@@ -242,7 +242,7 @@ TEST_CASE("occluded pixels inside the image circle are black, unpolarized and +0
   const sky::RayleighSky sky_model;
   const sky::Sun sun = sun_at(200, 25);
   const render::Renderer r(cam, render::RenderOptions{}, std::make_shared<MeridianBand>());
-  const render::Frame f = r.render(sky_model, sun);
+  const stack::Frame f = r.render(sky_model, sun);
   int blocked = 0, open = 0;
   for (int y = 0; y < cam->height(); ++y) {
     for (int x = 0; x < cam->width(); ++x) {
@@ -272,7 +272,7 @@ TEST_CASE("projected transport: DoLP as the model, AoLP mapped by the camera", "
   const auto cam = small_fisheye(30, 96, 80, camera::Transport::projected);
   const sky::RayleighSky sky_model;
   const sky::Sun sun = sun_at(300, 15);
-  const render::Frame f = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun);
+  const stack::Frame f = render::Renderer(cam, render::RenderOptions{}).render(sky_model, sun);
   int checked = 0;
   for (int y = 0; y < cam->height(); y += 3) {
     for (int x = 0; x < cam->width(); x += 3) {

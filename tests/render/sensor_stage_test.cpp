@@ -11,14 +11,14 @@
 
 #include "render/pipeline.h"
 #include "render/sensor_stage.h"
-#include "render/stack_io.h"
+#include "stack/stack_io.h"
 
 using namespace skypol;
 
 namespace {
 
-render::Frame uniform_frame(int w, int h, float s0, float s1, float s2) {
-  render::Frame f;
+stack::Frame uniform_frame(int w, int h, float s0, float s1, float s2) {
+  stack::Frame f;
   f.width = w;
   f.height = h;
   const auto n = static_cast<std::size_t>(w * h);
@@ -31,8 +31,8 @@ render::Frame uniform_frame(int w, int h, float s0, float s1, float s2) {
   return f;
 }
 
-render::SensorSpec sensor(int w, int h) {
-  render::SensorSpec s;
+scene::SensorSpec sensor(int w, int h) {
+  scene::SensorSpec s;
   s.dofp.width = w;
   s.dofp.height = h;
   s.dofp.exposure_us = 1000;
@@ -55,12 +55,12 @@ double mean_inner(const std::vector<float>& v, int w, int h) {
 }  // namespace
 
 TEST_CASE("a noise-free sensor returns the field's DoLP and AoLP", "[sensor]") {
-  render::SensorSpec s = sensor(32, 32);
+  scene::SensorSpec s = sensor(32, 32);
   s.dofp.shot_noise = false;
   s.dofp.read_noise_e = 0;
   s.dofp.dark_current_e_s = 0;
   // DoLP 0.5, AoLP ½·atan2(0.4, 0.3) = 26.57°.
-  render::Frame f = uniform_frame(32, 32, 1.0f, 0.3f, 0.4f);
+  stack::Frame f = uniform_frame(32, 32, 1.0f, 0.3f, 0.4f);
   render::apply_sensor(s, {"Y"}, 0, f, /*keep_raw=*/true);
   // Pixel (0,0) sits behind the 90° polarizer: ½(S0 − S1) = 0.35 → 1750 e- → 437.5 DN; (0,1) the
   // 45° one: ½(S0 + S2) = 0.7 → 875 DN.
@@ -73,8 +73,8 @@ TEST_CASE("a noise-free sensor returns the field's DoLP and AoLP", "[sensor]") {
 }
 
 TEST_CASE("shot noise averages out, is keyed by the frame index, and spares masked pixels", "[sensor]") {
-  const render::SensorSpec s = sensor(64, 64);
-  render::Frame a = uniform_frame(64, 64, 1.0f, -0.2f, 0.1f), b = a, c = a;
+  const scene::SensorSpec s = sensor(64, 64);
+  stack::Frame a = uniform_frame(64, 64, 1.0f, -0.2f, 0.1f), b = a, c = a;
   for (int i = 0; i < 64; ++i) a.channel("mask")[static_cast<std::size_t>(i)] = 0;  // first row: occluded
   render::apply_sensor(s, {"Y"}, 3, a);
   render::apply_sensor(s, {"Y"}, 3, b);
@@ -95,7 +95,7 @@ TEST_CASE("shot noise averages out, is keyed by the frame index, and spares mask
 }
 
 TEST_CASE("with a sensor, what sees no sky is zero even when the file keeps no mask", "[sensor]") {
-  const render::Scene scene = render::parse_scene(R"([site]
+  const scene::Scene scene = scene::parse_scene(R"([site]
 latitude_deg = 43.28699
 longitude_deg = 5.40336
 [time]
@@ -110,9 +110,9 @@ channels = ["DoLP"]
 )", "nomask.toml");
   const std::string path = (std::filesystem::temp_directory_path() / "skypol-sensor-nomask.exr").string();
   render::render_scene(scene, path);
-  const render::Stack stack = render::read_stack(path);
+  const stack::Stack stack = stack::read_stack(path);
   std::filesystem::remove(path);
-  const render::Frame& f = stack.frames.at(0);
+  const stack::Frame& f = stack.frames.at(0);
   CHECK_FALSE(f.has("mask"));
   const std::vector<float>& dolp = f.channel("DoLP.Y");
   // The first and last rows lie outside the image circle: no dark-noise "polarization" there.

@@ -23,7 +23,7 @@ testing::SyntheticSpec paper_spec(double heading) {
 
 TEST_CASE("classic SkyPole finds the NCP over Marseille within 2 degrees", "[skypole][classic]") {
   for (double heading : {0.0, 37.0, 90.0, 200.0, 315.0}) {
-    const render::Stack stack = testing::make_stack(paper_spec(heading));
+    const stack::Stack stack = testing::make_stack(paper_spec(heading));
     const skypole::ClassicResult r = skypole::estimate_classic(stack);
     const skypole::PoleEstimate& e = r.estimate;
     INFO("heading " << heading << ": " << e.why_invalid);
@@ -45,7 +45,7 @@ TEST_CASE("classic SkyPole finds the NCP over Marseille within 2 degrees", "[sky
 TEST_CASE("classic SkyPole keeps its intermediate images on request", "[skypole][classic]") {
   skypole::ClassicParams p;
   p.keep_intermediates = true;
-  const render::Stack stack = testing::make_stack(paper_spec(0));
+  const stack::Stack stack = testing::make_stack(paper_spec(0));
   const skypole::ClassicResult r = skypole::estimate_classic(stack, p);
   REQUIRE(r.estimate.valid);
   const std::size_t n = 256u * 256u;
@@ -64,7 +64,7 @@ TEST_CASE("classic SkyPole keeps its intermediate images on request", "[skypole]
 }
 
 TEST_CASE("classic SkyPole with all pairs and a fixed interval also works", "[skypole][classic]") {
-  const render::Stack stack = testing::make_stack(paper_spec(120));
+  const stack::Stack stack = testing::make_stack(paper_spec(120));
   for (auto mode : {skypole::PairMode::all, skypole::PairMode::interval}) {
     skypole::ClassicParams p;
     p.pairs = mode;
@@ -83,7 +83,7 @@ TEST_CASE("classic SkyPole in the southern hemisphere finds the SCP", "[skypole]
   spec.longitude_deg = 151.21;
   spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
   spec.heading_deg = 75;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
   INFO(e.why_invalid);
   REQUIRE(e.valid);
@@ -101,7 +101,7 @@ TEST_CASE("classic SkyPole refuses bad input with a clear message", "[skypole][c
     testing::SyntheticSpec spec = paper_spec(0);
     spec.times.resize(2);
     spec.size = 64;
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     CHECK_THROWS_WITH(skypole::estimate_classic(stack),
                       Catch::Contains("at least 3 frames") && Catch::Contains("has 2"));
   }
@@ -109,20 +109,20 @@ TEST_CASE("classic SkyPole refuses bad input with a clear message", "[skypole][c
     testing::SyntheticSpec spec = paper_spec(0);
     spec.times.resize(4);
     spec.size = 64;
-    render::Stack stack = testing::make_stack(spec);
+    stack::Stack stack = testing::make_stack(spec);
     stack.frames[2].channels.erase("DoLP.Y");
     CHECK_THROWS_WITH(skypole::estimate_classic(stack),
                       Catch::Contains("frame 2") && Catch::Contains("DoLP.Y"));
   }
   SECTION("a stack without a camera") {
-    render::Stack stack;
+    stack::Stack stack;
     CHECK_THROWS_AS(skypole::estimate_classic(stack), std::invalid_argument);
   }
   SECTION("the pole outside the field of view") {
     // Level camera looking south: the NCP (43° up in the north) is 137° off its axis.
     testing::SyntheticSpec spec = paper_spec(180);
     spec.tilt_deg = 90;
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
     CHECK_FALSE(e.valid);
     CHECK(e.why_invalid.find("field of view") != std::string::npos);
@@ -132,7 +132,7 @@ TEST_CASE("classic SkyPole refuses bad input with a clear message", "[skypole][c
     testing::SyntheticSpec spec = paper_spec(0);
     spec.latitude_deg = 90;
     spec.times = testing::times_every("2022-06-21T00:00:00Z", "2022-06-21T08:00:00Z", 30);
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
     INFO(e.why_invalid);
     REQUIRE(e.valid);
@@ -149,7 +149,7 @@ TEST_CASE("classic SkyPole's noise floor keeps sensor noise out of the binary im
   testing::SyntheticSpec spec = paper_spec(30);
   spec.noise = 0.01;
   spec.max_dolp = 0.7;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::ClassicParams plain;
   plain.noise_floor = 0;  // the paper's plain relative threshold
   const skypole::PoleEstimate e_plain = skypole::estimate_classic(stack, plain).estimate;

@@ -21,7 +21,7 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A small stack just to get a SkyImages with a lens and a level frame.
-render::Stack tiny_stack(double lat, double heading, double tilt, double roll) {
+stack::Stack tiny_stack(double lat, double heading, double tilt, double roll) {
   testing::SyntheticSpec spec;
   spec.latitude_deg = lat;
   spec.heading_deg = heading;
@@ -51,10 +51,10 @@ TEST_CASE("the true pole turns into the true heading and latitude", "[skypole]")
   for (double lat : {43.28699, -33.87, 0.5, -70.0})
     for (double heading : {0.0, 37.0, 181.0, 359.0})
       for (auto [tilt, roll] : {std::pair{0.0, 0.0}, std::pair{25.0, 10.0}}) {
-        const render::Stack stack = tiny_stack(lat, heading, tilt, roll);
+        const stack::Stack stack = tiny_stack(lat, heading, tilt, roll);
         const skypole::SkyImages sky =
             skypole::prepare_sky_images(stack, {}, 1, "test");
-        const render::Truth& t = stack.frames.front().truth;
+        const scene::Truth& t = stack.frames.front().truth;
         const Eigen::Vector3d ncp_world(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
         const Eigen::Vector3d ncp_cam = t.world_from_camera.transpose() * ncp_world;
         const skypole::PoleEstimate e = skypole::make_estimate("truth", sky, ncp_cam, {});
@@ -74,7 +74,7 @@ TEST_CASE("the true pole turns into the true heading and latitude", "[skypole]")
 }
 
 TEST_CASE("an observer at a geographic pole gets no bearing, never a number", "[skypole]") {
-  const render::Stack stack = tiny_stack(90.0, 10.0, 0, 0);
+  const stack::Stack stack = tiny_stack(90.0, 10.0, 0, 0);
   const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
   const skypole::PoleEstimate e =
       skypole::make_estimate("truth", sky, Eigen::Vector3d(0, 0, 1), {});
@@ -87,9 +87,9 @@ TEST_CASE("an observer at a geographic pole gets no bearing, never a number", "[
 }
 
 TEST_CASE("scores wrap the bearing error and see a wrong hemisphere", "[skypole]") {
-  const render::Stack stack = tiny_stack(43.28699, 350.0, 0, 0);
+  const stack::Stack stack = tiny_stack(43.28699, 350.0, 0, 0);
   const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
-  const render::Truth& t = stack.frames.front().truth;
+  const scene::Truth& t = stack.frames.front().truth;
   const double lat = 43.28699 * kDeg;
   // The NCP rotated 15° east: heading estimate 350 − 15 = 335, error −15 (not 345).
   const Eigen::Vector3d off(std::sin(15 * kDeg) * std::cos(lat), std::cos(15 * kDeg) * std::cos(lat),
@@ -115,7 +115,7 @@ TEST_CASE("scores wrap the bearing error and see a wrong hemisphere", "[skypole]
 }
 
 TEST_CASE("the masked disk filter averages only valid pixels", "[skypole]") {
-  const render::Stack stack = tiny_stack(43.28699, 0, 0, 0);
+  const stack::Stack stack = tiny_stack(43.28699, 0, 0, 0);
   const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
   std::vector<float> img(sky.pixels(), 7.0f);
   for (std::size_t i = 0; i < img.size(); ++i)

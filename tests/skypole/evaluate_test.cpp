@@ -24,7 +24,7 @@ TEST_CASE("summary statistics follow their documented definitions", "[skypole][e
 }
 
 TEST_CASE("unknown estimators are named with the legal ones", "[skypole][evaluate]") {
-  render::Stack stack;
+  stack::Stack stack;
   CHECK_THROWS_WITH(skypole::run_method(stack, "magic"),
                     Catch::Contains("great_circle") && Catch::Contains("magic"));
 }
@@ -37,7 +37,7 @@ TEST_CASE("evaluation rows and summaries, invalid rows counted but never scored"
   std::vector<skypole::EvaluationRow> rows;
   for (double heading : {0.0, 120.0}) {
     spec.heading_deg = heading;
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     for (const auto& m : skypole::method_names())
       rows.push_back({"marseille_h" + std::to_string(static_cast<int>(heading)),
                       skypole::run_method(stack, m), stack.frames.front().truth});
@@ -87,7 +87,7 @@ TEST_CASE("accuracy of every method: noise-free day, noisy day, noisy short wind
       spec.noise = c.noise;
       spec.max_dolp = c.pmax;
       spec.seed = static_cast<std::uint32_t>(heading) + 7;
-      const render::Stack stack = testing::make_stack(spec);
+      const stack::Stack stack = testing::make_stack(spec);
       for (const auto& m : skypole::method_names())
         rows.push_back({c.name, skypole::run_method(stack, m), stack.frames.front().truth});
     }
@@ -110,7 +110,7 @@ TEST_CASE("run time on a larger image", "[.perf]") {
   testing::SyntheticSpec spec;
   spec.times = testing::paper_times();
   spec.size = 2048;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   for (const auto& m : skypole::method_names()) {
     const skypole::PoleEstimate e = skypole::run_method(stack, m);
     const skypole::Score s = skypole::score(e, stack.frames.front().truth);
@@ -124,7 +124,7 @@ TEST_CASE("hard sites: a geographic pole and the equator", "[skypole][evaluate]"
     spec.latitude_deg = 90;
     spec.times = testing::times_every("2022-06-21T00:00:00Z", "2022-06-21T08:00:00Z", 30);
     spec.size = 128;
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     for (const auto& m : skypole::method_names()) {
       const skypole::PoleEstimate e = skypole::run_method(stack, m);
       INFO(m << ": " << e.why_invalid);
@@ -142,7 +142,7 @@ TEST_CASE("hard sites: a geographic pole and the equator", "[skypole][evaluate]"
     spec.heading_deg = 50;
     spec.times = testing::paper_times();
     spec.size = 128;
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     for (const auto& m : {"great_circle", "sun_vector", "sun_dolp"}) {
       const skypole::PoleEstimate e = skypole::run_method(stack, m);
       INFO(m << ": " << e.why_invalid);

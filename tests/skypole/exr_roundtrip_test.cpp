@@ -1,5 +1,5 @@
 // The whole chain: a scene rendered by render::render_scene, written as an EXR stack, read back by
-// render::read_stack (truth from the headers), estimated and scored. Checks that skypole and the
+// stack::read_stack (truth from the headers), estimated and scored. Checks that skypole and the
 // renderer agree on every convention (heading, pole, frames, channels).
 #include <catch2/catch.hpp>
 
@@ -9,8 +9,8 @@
 #include <iostream>
 
 #include "render/pipeline.h"
-#include "render/scene.h"
-#include "render/stack_io.h"
+#include "scene/scene.h"
+#include "stack/stack_io.h"
 #include "skypole/evaluate.h"
 
 using namespace skypol;
@@ -50,9 +50,9 @@ channels = ["DoLP", "AoLP", "mask"]
   const auto dir = std::filesystem::temp_directory_path() / "skypole_exr_roundtrip";
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "marseille.exr").string();
-  const render::Scene scene = render::parse_scene(text, "roundtrip.toml");
+  const scene::Scene scene = scene::parse_scene(text, "roundtrip.toml");
   render::render_scene(scene, path);
-  const render::Stack stack = render::read_stack(path);
+  const stack::Stack stack = stack::read_stack(path);
   REQUIRE(stack.frames.size() == 17);
   std::vector<skypole::EvaluationRow> rows;
   for (const auto& m : skypole::method_names())

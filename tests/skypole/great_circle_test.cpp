@@ -18,7 +18,7 @@ testing::SyntheticSpec paper_spec(double heading) {
   return spec;
 }
 
-skypole::Score run(const render::Stack& stack, const skypole::GreatCircleParams& p,
+skypole::Score run(const stack::Stack& stack, const skypole::GreatCircleParams& p,
                    const char* label, skypole::GreatCircleResult* out = nullptr) {
   const skypole::GreatCircleResult r = skypole::estimate_great_circle(stack, p);
   INFO(label << ": " << r.estimate.why_invalid);
@@ -37,7 +37,7 @@ skypole::Score run(const render::Stack& stack, const skypole::GreatCircleParams&
 
 TEST_CASE("great circles find the NCP over Marseille within 0.05 degrees", "[skypole][great_circle]") {
   for (double heading : {0.0, 37.0, 200.0}) {
-    const render::Stack stack = testing::make_stack(paper_spec(heading));
+    const stack::Stack stack = testing::make_stack(paper_spec(heading));
     const skypole::Score s = run(stack, {}, ("Marseille heading " + std::to_string(heading)).c_str());
     REQUIRE(s.bearing_error_deg);
     CHECK(std::abs(*s.bearing_error_deg) < 0.05);
@@ -52,7 +52,7 @@ TEST_CASE("great circles find the SCP for a southern observer", "[skypole][great
   spec.longitude_deg = 151.21;
   spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
   spec.heading_deg = 75;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::GreatCircleResult r;
   const skypole::Score s = run(stack, {}, "Sydney", &r);
   CHECK_FALSE(r.estimate.is_north);
@@ -67,7 +67,7 @@ TEST_CASE("great circles do not need the pole in the field of view", "[skypole][
   spec.times = testing::paper_times();
   spec.heading_deg = 180;
   spec.tilt_deg = 90;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::GreatCircleResult r;
   const skypole::Score s = run(stack, {}, "pole outside the FOV", &r);
   CHECK_FALSE(r.estimate.pixel.has_value());
@@ -76,7 +76,7 @@ TEST_CASE("great circles do not need the pole in the field of view", "[skypole][
 
 TEST_CASE("the declination drift is what limits the drift-free fit", "[skypole][great_circle]") {
   // Near the equinox δ changes 0.39°/day: every radial circle misses the pole by dδ/dω ≈ 0.06°.
-  const render::Stack stack = testing::make_stack(paper_spec(37));
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
   skypole::GreatCircleParams none;
   none.drift = skypole::DriftModel::none;
   const skypole::Score s_none = run(stack, none, "drift none");
@@ -95,7 +95,7 @@ TEST_CASE("great circles with sensor noise over the paper's day stay within 0.3 
   testing::SyntheticSpec spec = paper_spec(30);
   spec.noise = 0.01;   // 1 % of S0/2 on each polarizer intensity: DoLP noise ≈ 0.7 %
   spec.max_dolp = 0.7;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   const skypole::Score s = run(stack, {}, "noise 1 %, Pmax 0.7");
   CHECK(s.angular_error_deg < 0.3);
 }
@@ -104,7 +104,7 @@ TEST_CASE("great circles obey the hemisphere hint and refuse too little input",
           "[skypole][great_circle]") {
   testing::SyntheticSpec spec = paper_spec(0);
   spec.size = 128;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::GreatCircleParams p;
   p.input.hemisphere = skypole::Hemisphere::south;
   const skypole::PoleEstimate e = skypole::estimate_great_circle(stack, p).estimate;
@@ -112,7 +112,7 @@ TEST_CASE("great circles obey the hemisphere hint and refuse too little input",
   CHECK_FALSE(e.is_north);  // told so, against the evidence
   CHECK(e.note.find("hint") != std::string::npos);
 
-  render::Stack two = stack;
+  stack::Stack two = stack;
   two.frames.resize(2);
   CHECK_THROWS_WITH(skypole::estimate_great_circle(two), Catch::Contains("at least 3 frames"));
 }

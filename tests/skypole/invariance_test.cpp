@@ -18,7 +18,7 @@ testing::SyntheticSpec paper_spec(double heading) {
   return spec;
 }
 
-skypole::Score run(const render::Stack& stack, const skypole::InvarianceParams& p,
+skypole::Score run(const stack::Stack& stack, const skypole::InvarianceParams& p,
                    const std::string& label, skypole::InvarianceResult* out = nullptr) {
   const skypole::InvarianceResult r = skypole::estimate_invariance(stack, p);
   INFO(label << ": " << r.estimate.why_invalid);
@@ -42,7 +42,7 @@ TEST_CASE("time invariance finds the NCP over Marseille within 0.05 degrees", "[
     skypole::InvarianceParams p;
     p.refine = refine;
     for (double heading : {0.0, 37.0, 200.0}) {
-      const render::Stack stack = testing::make_stack(paper_spec(heading));
+      const stack::Stack stack = testing::make_stack(paper_spec(heading));
       skypole::InvarianceResult r;
       const skypole::Score s = run(stack, p,
                                    std::string(skypole::refine_name(refine)) + " Marseille heading " +
@@ -63,7 +63,7 @@ TEST_CASE("time invariance finds the NCP over Marseille within 0.05 degrees", "[
 
 TEST_CASE("per-frame invariance needs the drift removed near the equinox", "[skypole][invariance]") {
   // Without the linear trend the DoLP at the pole itself varies with δ and the minimum moves.
-  const render::Stack stack = testing::make_stack(paper_spec(37));
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
   skypole::InvarianceParams none;
   none.refine = skypole::Refine::per_frame;
   none.detrend = skypole::Detrend::none;
@@ -74,7 +74,7 @@ TEST_CASE("per-frame invariance needs the drift removed near the equinox", "[sky
 TEST_CASE("co-rotating invariance needs the sun's declination drift", "[skypole][invariance]") {
   // Over the paper's 11 h the sun's declination falls by 0.18°: a rigid turn about the pole alone
   // fits a tilted axis (measured 0.10° of bearing, 0.07° on the sphere); with the drift turned in, the fit is exact.
-  const render::Stack stack = testing::make_stack(paper_spec(37));
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
   skypole::InvarianceParams rigid;
   rigid.model_declination_drift = false;
   const skypole::Score without = run(stack, rigid, "co-rotating, rigid turn only");
@@ -90,7 +90,7 @@ TEST_CASE("time invariance in the southern hemisphere finds the SCP", "[skypole]
   spec.longitude_deg = 151.21;
   spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
   spec.heading_deg = 75;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::InvarianceResult r;
   const skypole::Score s = run(stack, {}, "Sydney", &r);
   CHECK_FALSE(r.estimate.is_north);
@@ -102,7 +102,7 @@ TEST_CASE("time invariance with sensor noise over the paper's day", "[skypole][i
   testing::SyntheticSpec spec = paper_spec(30);
   spec.noise = 0.01;
   spec.max_dolp = 0.7;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   // Near the equinox the pole lies on every frame's maximum-DoLP circle: DoLP there is stationary
   // in space as well as time, V grows as |u|⁴, and noise moves the per-frame model's minimum by
   // degrees (measured 3.2° for this seed). The co-rotating model fits one pattern to every pixel
@@ -122,7 +122,7 @@ TEST_CASE("co-rotating invariance shrinks its window for a low pole", "[skypole]
   spec.latitude_deg = 9;
   spec.times = testing::times_every("2022-09-23T06:00:00Z", "2022-09-23T17:00:00Z", 30);
   spec.heading_deg = 120;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::InvarianceResult r;
   const skypole::Score s = run(stack, {}, "latitude 9", &r);
   CHECK(r.corotating);
@@ -134,7 +134,7 @@ TEST_CASE("co-rotating invariance shrinks its window for a low pole", "[skypole]
 TEST_CASE("co-rotating invariance needs frames at different times", "[skypole][invariance]") {
   testing::SyntheticSpec spec = paper_spec(0);
   spec.times = {spec.times[4], spec.times[4], spec.times[4]};
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::InvarianceParams p;
   p.refine = skypole::Refine::corotating;
   CHECK_THROWS_WITH(skypole::estimate_invariance(stack, p),
@@ -145,7 +145,7 @@ TEST_CASE("time invariance refuses a pole outside the field of view", "[skypole]
   testing::SyntheticSpec spec = paper_spec(180);
   spec.tilt_deg = 90;
   spec.size = 128;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   const skypole::PoleEstimate e = skypole::estimate_invariance(stack).estimate;
   CHECK_FALSE(e.valid);
   CHECK(e.why_invalid.find("field of view") != std::string::npos);
@@ -155,7 +155,7 @@ TEST_CASE("time invariance refuses a pole outside the field of view", "[skypole]
 TEST_CASE("invariance refuses parameters out of range", "[skypole][invariance]") {
   testing::SyntheticSpec spec = paper_spec(0);
   spec.size = 64;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::InvarianceParams degree;
   degree.corotating_degree = 9;
   CHECK_THROWS_WITH(skypole::estimate_invariance(stack, degree), Catch::Contains("corotating_degree"));
@@ -174,7 +174,7 @@ TEST_CASE("invariance tells north from the pattern's rotation when the sun canno
                         "2022-09-23T08:30:00Z"})
     spec.times.push_back(sky::parse_iso8601(t));
   spec.heading_deg = 20;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::InvarianceResult r;
   const skypole::Score s = run(stack, {}, "sunrise", &r);
   CHECK(r.estimate.is_north);

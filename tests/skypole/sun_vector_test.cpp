@@ -20,7 +20,7 @@ testing::SyntheticSpec paper_spec(double heading) {
   return spec;
 }
 
-skypole::Score run(const render::Stack& stack, const skypole::SunVectorParams& p,
+skypole::Score run(const stack::Stack& stack, const skypole::SunVectorParams& p,
                    const std::string& label, skypole::SunVectorResult* out = nullptr) {
   const skypole::SunVectorResult r = skypole::estimate_sun_vector(stack, p);
   INFO(label << ": " << r.estimate.why_invalid);
@@ -37,7 +37,7 @@ skypole::Score run(const render::Stack& stack, const skypole::SunVectorParams& p
 }  // namespace
 
 TEST_CASE("AoLP gives the sun: every E-vector is perpendicular to it", "[skypole][sun_vector]") {
-  const render::Stack stack = testing::make_stack(paper_spec(37));
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
   skypole::SunVectorResult r;
   run(stack, {}, "Marseille circle", &r);
   for (std::size_t t = 0; t < stack.frames.size(); ++t) {
@@ -50,7 +50,7 @@ TEST_CASE("AoLP gives the sun: every E-vector is perpendicular to it", "[skypole
 
 TEST_CASE("sun-vector circle and ephemeris modes find the pole", "[skypole][sun_vector]") {
   for (double heading : {0.0, 200.0}) {
-    const render::Stack stack = testing::make_stack(paper_spec(heading));
+    const stack::Stack stack = testing::make_stack(paper_spec(heading));
     const skypole::Score c = run(stack, {}, "circle heading " + std::to_string(heading));
     CHECK(c.angular_error_deg < 0.05);
     skypole::SunVectorParams p;
@@ -69,7 +69,7 @@ TEST_CASE("sun-vector in the south and without AoLP", "[skypole][sun_vector]") {
   spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
   spec.heading_deg = 75;
   spec.size = 128;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::SunVectorResult r;
   const skypole::Score s = run(stack, {}, "Sydney", &r);
   CHECK_FALSE(r.estimate.is_north);
@@ -86,10 +86,10 @@ TEST_CASE("sun-vector with sensor noise", "[skypole][sun_vector]") {
   testing::SyntheticSpec spec = paper_spec(30);
   spec.noise = 0.01;
   spec.max_dolp = 0.7;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   const skypole::Score s = run(stack, {}, "noise 1 %, Pmax 0.7, 8 h");
   CHECK(s.angular_error_deg < 0.3);
   spec.times = testing::times_every("2022-09-23T09:00:00Z", "2022-09-23T11:00:00Z", 10);
-  const render::Stack short_stack = testing::make_stack(spec);
+  const stack::Stack short_stack = testing::make_stack(spec);
   run(short_stack, {}, "noise 1 %, Pmax 0.7, 2 h");
 }

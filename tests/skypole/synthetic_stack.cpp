@@ -29,7 +29,7 @@ std::vector<sky::Instant> paper_times() {
   return times_every("2022-09-23T08:00:00Z", "2022-09-23T16:00:00Z", 30);
 }
 
-render::Stack make_stack(const SyntheticSpec& spec) {
+stack::Stack make_stack(const SyntheticSpec& spec) {
   camera::Intrinsics k;
   k.width = k.height = spec.size;
   const double theta_max = 0.5 * spec.fov_deg * kDeg;
@@ -40,7 +40,7 @@ render::Stack make_stack(const SyntheticSpec& spec) {
       camera::world_from_heading_tilt_roll(spec.heading_deg, spec.tilt_deg, spec.roll_deg);
   auto cam = std::make_shared<camera::Camera>(lens, world_from_camera);
 
-  render::Stack stack;
+  stack::Stack stack;
   stack.camera = cam;
   stack.bands = {spec.band};
   const sky::Site site{spec.latitude_deg, spec.longitude_deg, 0};
@@ -52,7 +52,7 @@ render::Stack make_stack(const SyntheticSpec& spec) {
   std::normal_distribution<double> gauss(0.0, 1.0);
 
   for (const sky::Instant t : spec.times) {
-    render::Frame f;
+    stack::Frame f;
     f.width = f.height = spec.size;
     f.truth.time = t;
     f.truth.site = site;

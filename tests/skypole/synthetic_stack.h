@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "render/frame.h"
+#include "stack/frame.h"
 #include "sky/time.h"
 
 namespace skypol::testing {
@@ -35,6 +35,6 @@ std::vector<sky::Instant> times_every(const std::string& start, const std::strin
 // The paper's day: 2022-09-23 every 30 min 08:00–16:00 UTC (17 frames).
 std::vector<sky::Instant> paper_times();
 
-render::Stack make_stack(const SyntheticSpec& spec);
+stack::Stack make_stack(const SyntheticSpec& spec);
 
 }  // namespace skypol::testing

@@ -1,0 +1,90 @@
+// A scene: everything one stack is rendered from, read from a TOML file (docs/scenes.md lists
+// every key with its unit, default and range). The loader checks every value and reports problems
+// as SceneError with file, line, column and key; the renderer only ever sees checked values.
+//
+// Each section has its own reader, in its own file: scene.cpp (site, atmosphere, time, render,
+// output), scene_camera.cpp, scene_sky.cpp, scene_sensor.cpp, scene_occluders.cpp; where the
+// TOML comes from (includes, --set) is scene_source.h.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera/camera.h"
+#include "camera/dofp_sensor.h"
+#include "camera/lens_factory.h"
+#include "scene/occluder_spec.h"
+#include "scene/scene_source.h"
+#include "scene/toml_fields.h"
+#include "sky/sky_model.h"
+#include "sky/sky_spec.h"
+#include "sky/sun.h"
+#include "sky/time.h"
+
+namespace skypol::scene {
+
+struct CameraSpec {
+  camera::LensSpec lens;               // checked by camera::make_lens
+  // Orientation (camera/orientation.h). A quaternion in the scene is turned into these angles, so
+  // the truth and the headers always carry heading, tilt and roll.
+  double heading_deg = 0, tilt_deg = 0, roll_deg = 0;
+  camera::Transport transport = camera::Transport::meridional;
+  std::string description;             // canonical TOML of this section, stored in the EXR headers
+};
+
+// The [sensor] section: a division-of-focal-plane polarization sensor between the sky and the
+// file. Absent: the stack holds the ideal Stokes vectors.
+struct SensorSpec {
+  camera::DofpSensor dofp;
+  camera::Demosaic demosaic = camera::Demosaic::nominal;
+};
+
+struct RenderSpec {
+  int spp = 1;
+  std::uint64_t seed = 0;
+  std::vector<std::string> bands{"Y"};
+};
+
+struct OutputSpec {
+  std::string path;                    // resolved against the current directory
+  std::vector<std::string> channels{"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  bool half = false;                   // pixel type: float32 (default) or half
+  std::string compression = "zip";
+  bool previews = false;               // PNG previews next to the stack (stack/preview.h)
+};
+
+struct Scene {
+  std::string file;                    // as given (for messages)
+  std::string text;                    // the scene as loaded, for provenance in the headers
+  sky::Site site;
+  sky::SunOptions sun_options;
+  std::vector<sky::Instant> times;
+  CameraSpec camera;
+  sky::SkySpec sky;
+  std::optional<SensorSpec> sensor;
+  OccluderSpec occluders;
+  RenderSpec render;
+  OutputSpec output;
+};
+
+// Throws SceneError (missing file, TOML syntax, wrong type, unknown key, value out of range).
+Scene load_scene(const std::string& path, const std::vector<Override>& overrides = {});
+Scene parse_scene(const std::string& text, const std::string& file_name);
+Scene scene_from_source(const SceneSource& source);
+
+// The camera section alone (also how a stack's header is turned back into a camera). Relative
+// file names in it (ocamcalib_path) resolve against the folder of Fields::file().
+CameraSpec read_camera(Fields& camera_table);
+CameraSpec parse_camera(const std::string& toml_text, const std::string& file_name);
+sky::SkySpec read_sky(Fields& sky_table);
+SensorSpec read_sensor(Fields& sensor_table, const CameraSpec& camera);
+OccluderSpec read_occluders(Fields& occluders_table);
+
+// Built from checked specs; throws SceneError only for combinations a single key cannot catch.
+std::shared_ptr<const camera::Camera> build_camera(const CameraSpec& spec);
+std::unique_ptr<sky::SkyModel> build_sky(const sky::SkySpec& spec);
+
+}  // namespace skypol::scene

@@ -1,0 +1,202 @@
+// The [camera] section: lens (any camera::make_lens model, or a preset lens on a preset sensor),
+// orientation (heading/tilt/roll or a quaternion) and polarization transport.
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <sstream>
+
+#include "camera/orientation.h"
+#include "camera/presets.h"
+#include "scene/scene.h"
+
+namespace skypol::scene {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// The [camera] keys that a camera::make_lens message may name, in the order they are searched.
+const std::vector<std::string>& lens_keys() {
+  static const std::vector<std::string> keys{
+      "coefficients", "ocamcalib_path", "clamp_fov_to_monotone", "binning", "focal_mm", "pitch_um",
+      "fov_deg",      "table",          "width",                 "height",  "fx",       "fy",
+      "cx",           "cy",             "model"};
+  return keys;
+}
+
+// A make_lens error names a field; report it at that key of the table (or at the table).
+[[noreturn]] void fail_lens(const Fields& c, const std::string& message) {
+  std::string key;
+  std::size_t best = std::string::npos;
+  for (const std::string& k : lens_keys()) {
+    const std::size_t at = message.find(k);
+    if (at < best) best = at, key = k;
+  }
+  if (key == "cx" && message.find("cy") != std::string::npos && message.find("cx") == std::string::npos) key = "cy";
+  c.fail(key.empty() || !c.has(key) ? std::string_view("model") : std::string_view(key), message);
+}
+
+// Heading, tilt and roll of a world_from_camera rotation (inverse of
+// world_from_heading_tilt_roll): tilt from the optical axis' elevation, heading from
+// camera::heading_deg_of, roll from what is left.
+void angles_of(const Eigen::Matrix3d& r, CameraSpec& s) {
+  s.tilt_deg = std::acos(std::clamp(r(2, 2), -1.0, 1.0)) / kDeg;
+  s.heading_deg = camera::heading_deg_of(r);
+  const Eigen::Matrix3d without_roll = camera::world_from_heading_tilt_roll(s.heading_deg, s.tilt_deg, 0);
+  const Eigen::Matrix3d roll = without_roll.transpose() * r;  // = Rz(ρ)
+  s.roll_deg = std::atan2(roll(1, 0), roll(0, 0)) / kDeg;
+  if (std::abs(s.roll_deg) < 1e-12) s.roll_deg = 0;
+}
+
+std::string canonical_description(const CameraSpec& s, const std::string& transport) {
+  const camera::LensSpec& l = s.lens;
+  std::ostringstream os;
+  os.precision(17);
+  auto opt = [&os](const char* key, const std::optional<double>& v) {
+    if (v) os << key << " = " << *v << "\n";
+  };
+  os << "model = \"" << l.model << "\"\n";
+  if (l.width) os << "width = " << l.width << "\nheight = " << l.height << "\n";
+  opt("fx", l.fx);
+  opt("fy", l.fy);
+  opt("focal_mm", l.focal_mm);
+  opt("pitch_um", l.pitch_um);
+  opt("cx", l.cx);
+  opt("cy", l.cy);
+  opt("fov_deg", l.fov_deg);
+  if (!l.coefficients.empty()) {
+    os << "coefficients = [";
+    for (std::size_t i = 0; i < l.coefficients.size(); ++i) os << (i ? ", " : "") << l.coefficients[i];
+    os << "]\n";
+  }
+  if (!l.table.empty()) {
+    os << "table = [";
+    for (std::size_t i = 0; i < l.table.size(); ++i) {
+      os << (i ? ", " : "") << "[" << l.table[i].first << ", " << l.table[i].second << "]";
+    }
+    os << "]\n";
+  }
+  if (!l.ocamcalib_path.empty()) os << "ocamcalib_path = \"" << l.ocamcalib_path << "\"\n";
+  if (l.clamp_fov_to_monotone) os << "clamp_fov_to_monotone = true\n";
+  if (l.binning != 1) os << "binning = " << l.binning << "\n";
+  os << "heading_deg = " << s.heading_deg << "\ntilt_deg = " << s.tilt_deg << "\nroll_deg = " << s.roll_deg
+     << "\ntransport = \"" << transport << "\"\n";
+  return os.str();
+}
+
+}  // namespace
+
+CameraSpec read_camera(Fields& c) {
+  CameraSpec s;
+  camera::LensSpec& l = s.lens;
+
+  // Presets give defaults; every explicit key overrides them.
+  if (std::optional<std::string> lens_name = c.optional_string("lens_preset")) {
+    const std::string sensor_name = c.string("sensor_preset", "sony_imx250mzr");
+    try {
+      l = camera::lens_spec(camera::lens_preset(*lens_name), camera::sensor_preset(sensor_name));
+    } catch (const std::invalid_argument& e) {
+      const bool sensor_bad = std::string(e.what()).find(sensor_name) != std::string::npos &&
+                              std::string(e.what()).find(*lens_name) == std::string::npos;
+      c.fail(sensor_bad ? "sensor_preset" : "lens_preset", e.what());
+    }
+  } else if (std::optional<std::string> sensor_name = c.optional_string("sensor_preset")) {
+    try {
+      const camera::SensorPreset& p = camera::sensor_preset(*sensor_name);
+      l.width = p.width;
+      l.height = p.height;
+      l.pitch_um = p.pitch_um;
+    } catch (const std::invalid_argument& e) {
+      c.fail("sensor_preset", e.what());
+    }
+  }
+
+  std::vector<std::string> models;
+  for (std::string_view m : camera::lens_model_names()) models.emplace_back(m);
+  l.model = c.choice("model", l.model.empty() ? "equidistant" : l.model, models);
+  l.width = static_cast<int>(c.integer("width", l.width, 1, 65536));
+  l.height = static_cast<int>(c.integer("height", l.height, 1, 65536));
+  if (l.model != "ocam") {
+    if (!l.width) c.fail("width", "missing (image width in pixels)");
+    if (!l.height) c.fail("height", "missing (image height in pixels)");
+  }
+  if (std::optional<double> v = c.optional_number("focal_mm", 1e-3, 1e4)) l.focal_mm = v, l.fx.reset();
+  if (std::optional<double> v = c.optional_number("pitch_um", 1e-2, 1e3)) l.pitch_um = v;
+  if (std::optional<double> v = c.optional_number("fx", 1e-3, 1e7)) {
+    l.fx = v;
+    if (!c.has("focal_mm")) l.focal_mm.reset();
+    if (!c.has("pitch_um") && l.model != "tabulated") l.pitch_um.reset();
+  }
+  if (std::optional<double> v = c.optional_number("fy", 1e-3, 1e7)) l.fy = v;
+  if (l.width) {
+    if (std::optional<double> v = c.optional_number("cx", -0.5, l.width - 0.5)) l.cx = v;
+    if (std::optional<double> v = c.optional_number("cy", -0.5, l.height - 0.5)) l.cy = v;
+  }
+  // The ideal fisheye mappings image a hemisphere unless told otherwise; the other models need
+  // their field of view said (a perspective lens cannot reach 90°).
+  const bool hemisphere_default = l.model == "stereographic" || l.model == "equidistant" ||
+                                  l.model == "equisolid" || l.model == "orthographic";
+  if (std::optional<double> v = c.optional_number("fov_deg", 1, 360)) {
+    l.fov_deg = v;
+  } else if (!l.fov_deg && hemisphere_default) {
+    l.fov_deg = 180;
+  }
+  if (c.has("coefficients")) l.coefficients = c.numbers("coefficients", {});
+  if (c.has("table")) {
+    const std::vector<Fields::Row> rows = c.rows("table", 2);
+    l.table.clear();
+    for (const Fields::Row& r : rows) l.table.emplace_back(r[0], r[1]);
+  }
+  if (std::optional<std::string> p = c.optional_string("ocamcalib_path")) {
+    // Relative to the scene file; stored absolute so that a stack's header rebuilds the lens.
+    std::filesystem::path path(*p);
+    // Relative to the file that wrote the key (an included preset resolves against its own folder).
+    if (path.is_relative()) path = std::filesystem::path(c.loc("ocamcalib_path").file).parent_path() / path;
+    l.ocamcalib_path = std::filesystem::absolute(path).lexically_normal().string();
+    if (!std::filesystem::exists(l.ocamcalib_path)) c.fail("ocamcalib_path", "no such file: " + l.ocamcalib_path);
+  }
+  l.clamp_fov_to_monotone = c.boolean("clamp_fov_to_monotone", false);
+  l.binning = static_cast<int>(c.integer("binning", 1, 1, 64));
+
+  // Orientation.
+  const bool has_angles = c.has("heading_deg") || c.has("tilt_deg") || c.has("roll_deg");
+  if (c.has("quaternion")) {
+    if (has_angles) c.fail("quaternion", "give either 'quaternion' or heading_deg/tilt_deg/roll_deg, not both");
+    const std::vector<double> q = c.numbers("quaternion", {});
+    if (q.size() != 4) c.fail("quaternion", "needs 4 numbers [w, x, y, z] (world <- camera, Hamilton)");
+    try {
+      angles_of(camera::world_from_quaternion(q[0], q[1], q[2], q[3]), s);
+    } catch (const std::invalid_argument& e) {
+      c.fail("quaternion", e.what());
+    }
+  } else {
+    s.heading_deg = c.number("heading_deg", 0, -360, 360);
+    s.tilt_deg = c.number("tilt_deg", 0, 0, 180);
+    s.roll_deg = c.number("roll_deg", 0, -360, 360);
+  }
+  const std::string transport = c.choice("transport", "meridional", {"meridional", "projected"});
+  s.transport = transport == "projected" ? camera::Transport::projected : camera::Transport::meridional;
+  c.finish();
+
+  try {
+    (void)camera::make_lens(l);
+  } catch (const std::invalid_argument& e) {
+    fail_lens(c, e.what());
+  }
+  // The canonical description: every value explicit, so a stack rebuilds the exact camera.
+  s.description = canonical_description(s, transport);
+  return s;
+}
+
+CameraSpec parse_camera(const std::string& toml_text, const std::string& file_name) {
+  const toml::table t = parse_toml(toml_text, file_name);
+  Fields f(t, file_name, "camera");
+  return read_camera(f);
+}
+
+std::shared_ptr<const camera::Camera> build_camera(const CameraSpec& s) {
+  return std::make_shared<camera::Camera>(
+      camera::make_lens(s.lens), camera::world_from_heading_tilt_roll(s.heading_deg, s.tilt_deg, s.roll_deg),
+      s.transport);
+}
+
+}  // namespace skypol::scene

@@ -1,0 +1,77 @@
+// The [sensor] section: a division-of-focal-plane polarization sensor (camera/dofp_sensor.h).
+// Its size is the camera's (after binning); a preset gives the noise figures, keys override them.
+#include <array>
+#include <limits>
+
+#include "camera/presets.h"
+#include "scene/scene.h"
+
+namespace skypol::scene {
+namespace {
+
+std::array<double, 4> four(Fields& f, std::string_view key, std::array<double, 4> fallback) {
+  if (!f.has(key)) {
+    (void)f.numbers(key, {});  // mark as known
+    return fallback;
+  }
+  const std::vector<double> v = f.numbers(key, {});
+  if (v.size() != 4) f.fail(key, "needs 4 numbers, for pixels (0,0) (0,1) (1,0) (1,1) of each 2x2 block");
+  return {v[0], v[1], v[2], v[3]};
+}
+
+}  // namespace
+
+SensorSpec read_sensor(Fields& f, const CameraSpec& camera_spec) {
+  SensorSpec s;
+  camera::DofpSensor& d = s.dofp;
+  if (std::optional<std::string> preset = f.optional_string("preset")) {
+    try {
+      d = camera::sensor_preset(*preset).dofp;
+    } catch (const std::invalid_argument& e) {
+      f.fail("preset", e.what());
+    }
+  }
+  const camera::Intrinsics k = camera::make_lens(camera_spec.lens)->intrinsics();
+  d.width = k.width;
+  d.height = k.height;
+  const std::string filter = f.choice("color_filter", d.color_filter == camera::ColorFilter::none ? "none" : "rggb_blocks",
+                                      {"none", "rggb_blocks"});
+  d.color_filter = filter == "none" ? camera::ColorFilter::none : camera::ColorFilter::rggb_blocks;
+  const std::array<double, 4> mosaic = four(f, "mosaic_deg", d.mosaic_deg);
+  d.mosaic_deg = mosaic;
+  d.angle_error_deg = four(f, "angle_error_deg", d.angle_error_deg);
+  if (f.has("band_response")) {
+    const std::vector<double> r = f.numbers("band_response", {});
+    if (r.size() != 3) f.fail("band_response", "needs 3 numbers (R, G, B)");
+    d.band_response = {r[0], r[1], r[2]};
+  } else {
+    (void)f.numbers("band_response", {});
+  }
+  d.extinction_ratio = f.number("extinction_ratio", d.extinction_ratio, 1.0 + 1e-9, 1e12);
+  d.exposure_us = f.number("exposure_us", d.exposure_us, 1e-3, 1e9);
+  d.electrons_per_radiance_s = f.number("electrons_per_radiance_s", d.electrons_per_radiance_s, 0, 1e15);
+  d.gain_dn_per_e = f.number("gain_dn_per_e", d.gain_dn_per_e, 1e-6, 1e6);
+  d.black_level_dn = f.number("black_level_dn", d.black_level_dn, 0, 65535);
+  d.read_noise_e = f.number("read_noise_e", d.read_noise_e, 0, 1e6);
+  d.dark_current_e_s = f.number("dark_current_e_s", d.dark_current_e_s, 0, 1e9);
+  d.full_well_e = f.number("full_well_e", d.full_well_e, 1, 1e9);
+  d.adc_bits = static_cast<int>(f.integer("adc_bits", d.adc_bits, 1, 16));
+  d.shot_noise = f.boolean("shot_noise", d.shot_noise);
+  d.prnu_rms = f.number("prnu_rms", d.prnu_rms, 0, 1);
+  d.dsnu_e = f.number("dsnu_e", d.dsnu_e, 0, 1e6);
+  d.seed = static_cast<std::uint64_t>(f.integer("seed", 0, 0, std::numeric_limits<long long>::max()));
+  s.demosaic = f.choice("demosaic", "nominal", {"nominal", "calibrated"}) == "calibrated" ? camera::Demosaic::calibrated
+                                                                                          : camera::Demosaic::nominal;
+  f.finish();
+  try {
+    camera::validate(d);
+  } catch (const std::invalid_argument& e) {
+    // validate's messages start with the field, which is the key.
+    const std::string msg = e.what();
+    const std::string field = msg.substr(0, msg.find_first_of(" :"));
+    f.fail(f.has(field) ? std::string_view(field) : std::string_view("preset"), msg);
+  }
+  return s;
+}
+
+}  // namespace skypol::scene

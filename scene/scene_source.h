@@ -1,0 +1,57 @@
+// Where a scene's TOML comes from before its keys are read: the file, the files it includes, and
+// the command line's --set overrides, merged into one table whose nodes still carry the file and
+// line they came from (so that errors point at the right place).
+//
+// Merging (docs/scenes.md, "include"): a top-level `include = "a.toml"` or `include = ["a.toml",
+// "b.toml"]` names files relative to the including file; they are read first, in order, each
+// with its own includes (a cycle is an error), and every later table overrides the earlier ones
+// key by key: tables merge recursively, any other value (numbers, strings, arrays, arrays of
+// tables) is replaced whole. The including file comes last, then the overrides, in order.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace skypol::scene {
+
+// One `--set dotted.key=value` override. `value` is TOML ("3", "\"piz\"", "[1, 2]",
+// "2022-09-23"), or a bare word ("equisolid", "out/x.exr") taken as a string. Errors in the
+// value (and in what the loader makes of it) are reported at `origin`, line 1, with the column
+// counted in "key=value".
+struct Override {
+  std::string key;
+  std::string value;
+  std::string origin = "--set";
+};
+
+// "a.b.c=value" as typed on the command line; throws SceneError at "--set" when there is no '='.
+Override parse_override(const std::string& assignment);
+
+struct SceneSource {
+  std::string file;   // the scene file as given
+  // The scene as loaded, for provenance in the stack's headers: the file's own text when it
+  // neither includes nor is overridden, else the merged table as TOML, under a comment that
+  // names the files and overrides it came from. Either way it parses back to the same scene.
+  std::string text;
+  toml::table root;   // merged; the `include` key is consumed
+};
+
+// Throws SceneError: file missing, TOML syntax, bad include (missing, wrong type, cycle), bad
+// override.
+SceneSource load_scene_source(const std::string& path, const std::vector<Override>& overrides = {});
+// The same for text in memory; includes resolve against the folder of `file_name`.
+SceneSource parse_scene_source(const std::string& text, const std::string& file_name,
+                               const std::vector<Override>& overrides = {});
+
+// TOML text → table, with syntax errors as SceneError at the file, line and column.
+toml::table parse_toml(const std::string& text, const std::string& file_name);
+
+// A table as TOML text: keys sorted, sub-tables under [headers], floats in the shortest form that
+// parses back to the same double (0.1, not toml++'s 0.10000000000000001).
+std::string to_toml(const toml::table& table);
+// One value (a number, a string, an array, an inline table, a date) as TOML text.
+std::string to_toml_value(const toml::node& value);
+
+}  // namespace skypol::scene

@@ -1,0 +1,37 @@
+// Estimate north on a stack and print the estimate beside the truth in its headers.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "skypole/estimate.h"
+
+namespace skypol::skypole {
+
+struct EstimateRequest {
+  std::string path;
+  std::vector<std::string> methods{"classic"};  // names of method_names(), or "all"
+  InputOptions input;
+  bool json = false;
+  std::string intermediates;  // classic only: write its step images to this EXR (empty: none)
+};
+
+// Prints a table (or JSON: one object for one method, an array for several). Throws
+// std::invalid_argument on bad input (unknown method, unreadable stack, no pole found).
+void print_estimate(const EstimateRequest& request);
+inline void print_estimate(const std::string& path, const std::string& method, bool json) {
+  EstimateRequest r;
+  r.path = path;
+  r.methods = {method};
+  r.json = json;
+  print_estimate(r);
+}
+
+// The estimator channels of a stack (DoLP and AoLP of every band, and the mask): what
+// `estimate` and `evaluate` read, so that S0..S2 are never decoded.
+std::vector<std::string> estimator_channels(const std::string& path);
+
+// "all" → every method; otherwise checked against method_names().
+std::vector<std::string> expand_methods(const std::vector<std::string>& names);
+
+}  // namespace skypol::skypole

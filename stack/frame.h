@@ -1,0 +1,50 @@
+// What the renderer produces and what the estimators consume: frames of named float channels with
+// the ground truth the renderer knows, and a stack of them sharing one camera.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "camera/camera.h"
+#include "scene/truth.h"
+
+namespace skypol::stack {
+
+// A frame: width×height pixels, row-major (index = y·width + x), one float vector per channel.
+// Channel names follow DESIGN.md: "S0.<band>" … "S3.<band>", "DoLP.<band>", "AoLP.<band>" (radians
+// in memory, as in the file), "mask" (1 = sky seen, 0 = outside the image circle or occluded),
+// and for RGB bands also "R", "G", "B".
+struct Frame {
+  int width = 0;
+  int height = 0;
+  scene::Truth truth;  // scene/truth.h
+  std::map<std::string, std::vector<float>> channels;
+
+  bool has(const std::string& name) const { return channels.count(name) != 0; }
+  // Throws std::out_of_range naming the channel and the ones that exist.
+  const std::vector<float>& channel(const std::string& name) const;
+  std::vector<float>& channel(const std::string& name);
+};
+
+// Makes `channel` hold n floats, keeping its storage when it already does (the renderer reuses a
+// frame's channels from one frame to the next). New storage is asked of the OS in huge pages where
+// it can (Linux transparent huge pages): on a virtual machine a first-touch fault per 4 KiB page
+// costs more than rendering that page (`skypol bench`: "frame memory" against "sky render").
+// New values are zero.
+void size_channel(std::vector<float>& channel, std::size_t n);
+
+// A time series seen by one camera (one EXR file, one part per frame).
+struct Stack {
+  std::shared_ptr<const camera::Camera> camera;
+  std::vector<std::string> bands;     // e.g. {"Y"} or {"R","G","B"}
+  std::vector<Frame> frames;          // in time order
+  std::string camera_description;     // the camera's scene text, enough to rebuild `camera`
+  std::string scene_text;             // provenance: the whole scene as loaded
+};
+
+}  // namespace skypol::stack

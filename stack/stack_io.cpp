@@ -1,0 +1,338 @@
+#include "stack/stack_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+
+#include <Imath/half.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputPart.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfMatrixAttribute.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStandardAttributes.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
+#include <OpenEXR/ImfVecAttribute.h>
+
+#include "scene/scene.h"
+#include "scene/scene_error.h"
+
+namespace skypol::stack {
+namespace {
+
+// The mask is a coverage fraction (half would round 1/spp steps) and raw holds 12–16-bit counts
+// (half is exact only to 2048): both stay float whatever the pixel type.
+bool stays_float(const std::string& channel) { return channel == "mask" || channel == "raw"; }
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+Imf::Compression compression_of(const std::string& name) {
+  if (name == "none") return Imf::NO_COMPRESSION;
+  if (name == "rle") return Imf::RLE_COMPRESSION;
+  if (name == "zips") return Imf::ZIPS_COMPRESSION;
+  if (name == "zip") return Imf::ZIP_COMPRESSION;
+  if (name == "piz") return Imf::PIZ_COMPRESSION;
+  if (name == "pxr24") return Imf::PXR24_COMPRESSION;
+  if (name == "b44") return Imf::B44_COMPRESSION;
+  if (name == "dwaa") return Imf::DWAA_COMPRESSION;
+  throw std::invalid_argument("unknown compression '" + name + "'");
+}
+
+template <class A, class V>
+void put(Imf::Header& h, const char* name, const V& v) {
+  h.insert(name, A(v));
+}
+
+Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& channels, int width, int height,
+                        const StackHeader& sh, const WriteOptions& o) {
+  Imf::Header h(width, height);
+  h.setName(sky::format_iso8601(t.time));
+  h.setType(Imf::SCANLINEIMAGE);
+  h.compression() = compression_of(o.compression);
+  const bool half = o.half;
+  for (const std::string& c : channels) {
+    h.channels().insert(c, Imf::Channel(half && !stays_float(c) ? Imf::HALF : Imf::FLOAT));
+  }
+  // OpenEXR's standard attributes where they exist (capDate in UTC, so utcOffset = 0).
+  Imf::addLatitude(h, static_cast<float>(t.site.latitude_deg));
+  Imf::addLongitude(h, static_cast<float>(t.site.longitude_deg));
+  Imf::addAltitude(h, static_cast<float>(t.site.height_m));
+  const sky::CalendarUtc c = sky::to_calendar(t.time);
+  char date[32];
+  std::snprintf(date, sizeof date, "%04d:%02d:%02d %02d:%02d:%02d", c.year, c.month, c.day, c.hour, c.minute,
+                static_cast<int>(c.second));
+  Imf::addCapDate(h, date);
+  Imf::addUtcOffset(h, 0.0f);
+  // Exact values as skypol: attributes (docs/exr-format.md).
+  put<Imf::StringAttribute>(h, "skypol:version", std::string("skypol 0.1"));
+  put<Imf::StringAttribute>(h, "skypol:time", sky::format_iso8601(t.time));
+  put<Imf::DoubleAttribute>(h, "skypol:unixTime", t.time.unix_seconds);
+  put<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", t.site.latitude_deg);
+  put<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", t.site.longitude_deg);
+  put<Imf::DoubleAttribute>(h, "skypol:heightM", t.site.height_m);
+  put<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", t.sun.azimuth * kDeg);
+  put<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", t.sun.elevation * kDeg);
+  put<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", t.sun.declination * kDeg);
+  put<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", t.sun.hour_angle * kDeg);
+  put<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", Imath::V3d(t.sun.direction.x(), t.sun.direction.y(), t.sun.direction.z()));
+  Imath::M33d m;
+  for (int r = 0; r < 3; ++r)
+    for (int col = 0; col < 3; ++col) m[r][col] = t.world_from_camera(r, col);
+  put<Imf::M33dAttribute>(h, "skypol:worldFromCamera", m);
+  put<Imf::DoubleAttribute>(h, "skypol:headingDeg", t.heading_deg);
+  put<Imf::DoubleAttribute>(h, "skypol:tiltDeg", t.tilt_deg);
+  put<Imf::DoubleAttribute>(h, "skypol:rollDeg", t.roll_deg);
+  put<Imf::V3dAttribute>(h, "skypol:poleENU", Imath::V3d(t.pole_enu.x(), t.pole_enu.y(), t.pole_enu.z()));
+  put<Imf::IntAttribute>(h, "skypol:poleIsNorth", t.pole_is_north ? 1 : 0);
+  if (t.pole_pixel) put<Imf::V2dAttribute>(h, "skypol:polePixel", Imath::V2d(t.pole_pixel->x(), t.pole_pixel->y()));
+  std::string bands;
+  for (const std::string& b : sh.bands) bands += (bands.empty() ? "" : ",") + b;
+  put<Imf::StringAttribute>(h, "skypol:bands", bands);
+  put<Imf::StringAttribute>(h, "skypol:skyModel", sh.sky_model);
+  put<Imf::StringAttribute>(h, "skypol:camera", sh.camera_description);
+  put<Imf::StringAttribute>(h, "skypol:scene", sh.scene_text);
+  return h;
+}
+
+template <class A>
+const A& need(const Imf::Header& h, const char* name, const std::string& path, int part) {
+  const A* a = h.findTypedAttribute<A>(name);
+  if (!a) {
+    throw scene::SceneError(scene::FileLoc{path, 0, 0}, "part " + std::to_string(part) + " has no '" + name +
+                                              "' attribute: not a skypol stack, or written by another tool");
+  }
+  return *a;
+}
+
+scene::Truth read_truth(const Imf::Header& h, const std::string& path, int part) {
+  scene::Truth t;
+  t.time = sky::Instant{need<Imf::DoubleAttribute>(h, "skypol:unixTime", path, part).value()};
+  t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
+  t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
+  t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
+  t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDeg;
+  t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDeg;
+  t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDeg;
+  t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDeg;
+  const Imath::V3d s = need<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", path, part).value();
+  t.sun.direction = Eigen::Vector3d(s.x, s.y, s.z);
+  const Imath::M33d m = need<Imf::M33dAttribute>(h, "skypol:worldFromCamera", path, part).value();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) t.world_from_camera(r, c) = m[r][c];
+  t.heading_deg = need<Imf::DoubleAttribute>(h, "skypol:headingDeg", path, part).value();
+  t.tilt_deg = need<Imf::DoubleAttribute>(h, "skypol:tiltDeg", path, part).value();
+  t.roll_deg = need<Imf::DoubleAttribute>(h, "skypol:rollDeg", path, part).value();
+  const Imath::V3d p = need<Imf::V3dAttribute>(h, "skypol:poleENU", path, part).value();
+  t.pole_enu = Eigen::Vector3d(p.x, p.y, p.z);
+  t.pole_is_north = need<Imf::IntAttribute>(h, "skypol:poleIsNorth", path, part).value() != 0;
+  if (const auto* px = h.findTypedAttribute<Imf::V2dAttribute>("skypol:polePixel")) {
+    t.pole_pixel = Eigen::Vector2d(px->value().x, px->value().y);
+  }
+  return t;
+}
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) out.push_back(item);
+  return out;
+}
+
+}  // namespace
+
+void use_all_cores_for_exr() {
+  static const bool once = [] {
+    Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    return true;
+  }();
+  (void)once;
+}
+
+void write_stack(const std::string& path, const std::vector<scene::Truth>& truths, const std::vector<std::string>& channels,
+                 int width, int height, const StackHeader& header, const WriteOptions& options,
+                 const std::function<Frame(std::size_t)>& produce) {
+  Frame held;  // the previous part's frame is released when the next one arrives, as before
+  write_stack_reusing(path, truths, channels, width, height, header, options, [&](std::size_t i) -> const Frame& {
+    held = produce(i);
+    return held;
+  });
+}
+
+void write_stack_reusing(const std::string& path, const std::vector<scene::Truth>& truths,
+                         const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                         const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce) {
+  use_all_cores_for_exr();
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  std::error_code ec;
+  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  try {
+    std::vector<Imf::Header> headers;
+    headers.reserve(truths.size());
+    for (const scene::Truth& t : truths) headers.push_back(part_header(t, channels, width, height, header, options));
+    {
+      Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), static_cast<int>(headers.size()));
+      const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+      // Half conversions reuse their buffers from part to part, like the caller's frame.
+      std::vector<std::vector<Imath::half>> half_buffers(channels.size());
+      for (std::size_t i = 0; i < truths.size(); ++i) {
+        const Frame& frame = produce(i);
+        Imf::FrameBuffer fb;
+        for (std::size_t k = 0; k < channels.size(); ++k) {
+          const std::string& c = channels[k];
+          const std::vector<float>& data = frame.channel(c);
+          if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
+          if (options.half && !stays_float(c)) {
+            half_buffers[k].assign(data.begin(), data.end());
+            fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers[k].data()), sizeof(Imath::half),
+                                    sizeof(Imath::half) * static_cast<std::size_t>(width)));
+          } else {
+            // An output slice is only read; Imf::Slice takes a non-const pointer for both directions.
+            fb.insert(c, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(data.data())),
+                                    sizeof(float), sizeof(float) * static_cast<std::size_t>(width)));
+          }
+        }
+        Imf::OutputPart part(file, static_cast<int>(i));
+        part.setFrameBuffer(fb);
+        part.writePixels(height);
+      }
+    }
+    fs::rename(tmp, target);
+  } catch (const scene::SceneError&) {
+    fs::remove(tmp, ec);
+    throw;
+  } catch (const std::exception& e) {
+    fs::remove(tmp, ec);
+    throw scene::SceneError(scene::FileLoc{path, 0, 0}, std::string("cannot write stack: ") + e.what());
+  } catch (...) {
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
+Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels) {
+  use_all_cores_for_exr();
+  Stack stack;
+  try {
+    Imf::MultiPartInputFile file(path.c_str());
+    const int parts = file.parts();
+    if (parts < 1) throw scene::SceneError(scene::FileLoc{path, 0, 0}, "the file has no parts");
+    const Imf::Header& h0 = file.header(0);
+    stack.camera_description = need<Imf::StringAttribute>(h0, "skypol:camera", path, 0).value();
+    stack.scene_text = need<Imf::StringAttribute>(h0, "skypol:scene", path, 0).value();
+    stack.bands = split_commas(need<Imf::StringAttribute>(h0, "skypol:bands", path, 0).value());
+    stack.camera = scene::build_camera(scene::parse_camera(stack.camera_description, path + " [skypol:camera]"));
+    for (int i = 0; i < parts; ++i) {
+      const Imf::Header& h = file.header(i);
+      Frame frame;
+      frame.truth = read_truth(h, path, i);
+      const Imath::Box2i dw = h.dataWindow();
+      frame.width = dw.max.x - dw.min.x + 1;
+      frame.height = dw.max.y - dw.min.y + 1;
+      const std::size_t n = static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height);
+      std::vector<std::string> names;
+      if (only_channels.empty()) {
+        for (auto it = h.channels().begin(); it != h.channels().end(); ++it) names.emplace_back(it.name());
+      } else {
+        for (const std::string& c : only_channels) {
+          if (!h.channels().findChannel(c)) {
+            std::string have;
+            for (auto it = h.channels().begin(); it != h.channels().end(); ++it) have += std::string(" ") + it.name();
+            throw scene::SceneError(scene::FileLoc{path, 0, 0}, "part " + std::to_string(i) + " has no channel '" + c +
+                                                      "' (it has:" + have + ")");
+          }
+          names.push_back(c);
+        }
+      }
+      Imf::FrameBuffer fb;
+      for (const std::string& c : names) {
+        std::vector<float>& data = frame.channels[c];
+        data.assign(n, 0.0f);
+        // OpenEXR converts half to float on read; the data window origin is (0, 0) for skypol files.
+        char* base = reinterpret_cast<char*>(data.data()) -
+                     (static_cast<std::ptrdiff_t>(dw.min.x) + static_cast<std::ptrdiff_t>(dw.min.y) * frame.width) *
+                         static_cast<std::ptrdiff_t>(sizeof(float));
+        fb.insert(c, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * static_cast<std::size_t>(frame.width)));
+      }
+      Imf::InputPart part(file, i);
+      part.setFrameBuffer(fb);
+      part.readPixels(dw.min.y, dw.max.y);
+      stack.frames.push_back(std::move(frame));
+    }
+  } catch (const scene::SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw scene::SceneError(scene::FileLoc{path, 0, 0}, std::string("cannot read stack: ") + e.what());
+  }
+  return stack;
+}
+
+StackSummary peek_stack(const std::string& path) {
+  StackSummary s;
+  try {
+    Imf::MultiPartInputFile file(path.c_str());
+    const Imf::Header& h0 = file.header(0);
+    const Imath::Box2i dw = h0.dataWindow();
+    s.frames = file.parts();
+    s.width = dw.max.x - dw.min.x + 1;
+    s.height = dw.max.y - dw.min.y + 1;
+    s.bands = split_commas(need<Imf::StringAttribute>(h0, "skypol:bands", path, 0).value());
+    for (auto it = h0.channels().begin(); it != h0.channels().end(); ++it) s.channels.emplace_back(it.name());
+  } catch (const scene::SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw scene::SceneError(scene::FileLoc{path, 0, 0}, std::string("cannot read stack: ") + e.what());
+  }
+  return s;
+}
+
+std::string describe_stack(const std::string& path) {
+  std::ostringstream os;
+  try {
+    Imf::MultiPartInputFile file(path.c_str());
+    const Imf::Header& h0 = file.header(0);
+    const Imath::Box2i dw = h0.dataWindow();
+    os << path << ": " << file.parts() << " frame(s), " << (dw.max.x - dw.min.x + 1) << "x" << (dw.max.y - dw.min.y + 1)
+       << " px, bands " << need<Imf::StringAttribute>(h0, "skypol:bands", path, 0).value() << ", sky "
+       << need<Imf::StringAttribute>(h0, "skypol:skyModel", path, 0).value() << "\nchannels:";
+    for (auto it = h0.channels().begin(); it != h0.channels().end(); ++it) {
+      os << " " << it.name() << (it.channel().type == Imf::HALF ? "(half)" : "");
+    }
+    os << "\ncamera:\n" << need<Imf::StringAttribute>(h0, "skypol:camera", path, 0).value();
+    os << "frames (degrees; pole = the celestial pole the site sees):\n";
+    char line[512];
+    std::snprintf(line, sizeof line, "%-3s %-22s %9s %9s %8s %8s %9s %8s %8s %8s %17s\n", "#", "time (UTC)", "lat",
+                  "lon", "sun az", "sun el", "sun dec", "hour ang", "heading", "pole", "pole pixel");
+    os << line;
+    for (int i = 0; i < file.parts(); ++i) {
+      const scene::Truth t = read_truth(file.header(i), path, i);
+      char px[64] = "outside";
+      if (t.pole_pixel) std::snprintf(px, sizeof px, "(%.2f, %.2f)", t.pole_pixel->x(), t.pole_pixel->y());
+      std::snprintf(line, sizeof line, "%-3d %-22s %9.5f %9.5f %8.3f %8.3f %9.4f %8.3f %8.3f %8s %17s\n", i,
+                    sky::format_iso8601(t.time).c_str(), t.site.latitude_deg, t.site.longitude_deg, t.sun.azimuth * kDeg,
+                    t.sun.elevation * kDeg, t.sun.declination * kDeg, t.sun.hour_angle * kDeg, t.heading_deg,
+                    t.pole_is_north ? "north" : "south", px);
+      os << line;
+    }
+  } catch (const scene::SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw scene::SceneError(scene::FileLoc{path, 0, 0}, std::string("cannot read stack: ") + e.what());
+  }
+  return os.str();
+}
+
+}  // namespace skypol::stack

@@ -1,0 +1,36 @@
+// The studies behind docs/benchmarks.md: each varies one knob of the paper's set-up
+// (studies/tradeoff_setup.h), measures accuracy against a reference or the truth and the time it
+// costs, and writes CSV tables (studies/tradeoff_table.h) into a folder. scripts/benchmarks runs them
+// all, plots them and writes the report; the columns of each table are listed in
+// docs/benchmarks.md's "Data" section.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace skypol::studies::tradeoff {
+
+struct StudyOptions {
+  std::string out_dir;  // CSV files go here (created if missing)
+  bool small = false;   // tiny images and few settings: proves the study runs, in seconds
+};
+
+struct Study {
+  std::string name;     // what `skypol tradeoff NAME` runs
+  std::string summary;  // one line for --help
+  void (*run)(const StudyOptions&);
+};
+
+// In the order the report presents them.
+const std::vector<Study>& studies();
+
+// One per file (tradeoff_<name>.cpp). Each writes <out_dir>/<name>.csv.
+void study_spp(const StudyOptions& o);            // samples per pixel → Stokes error vs ms/frame
+void study_resolution(const StudyOptions& o);     // binning → estimator error vs time
+void study_window(const StudyOptions& o);         // frames and observation window → error
+void study_noise(const StudyOptions& o);          // exposure (sensor noise) → estimator error
+void study_lens_inverse(const StudyOptions& o);   // Newton iterations → round-trip error vs time
+void study_sky_precision(const StudyOptions& o);  // float vs double sky evaluation
+void study_throughput(const StudyOptions& o);     // Mpix/s, MB/s, s/stack and their scaling
+
+}  // namespace skypol::studies::tradeoff

@@ -1,0 +1,198 @@
+// The [camera], [sky] and [sensor] sections: every lens model, presets, quaternions, sky options
+// and the sensor arrive as written and build what they describe; their errors name the key.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "camera/orientation.h"
+#include "scene/scene.h"
+
+using namespace skypol;
+using scene::parse_scene;
+using scene::SceneError;
+
+namespace {
+
+const std::string kHead = R"([site]
+latitude_deg = 43.28699
+longitude_deg = 5.40336
+
+[time]
+instants = ["2022-09-23T10:00:00Z"]
+
+)";
+
+std::string error_of(const std::string& text, const std::string& file = "bad.toml") {
+  try {
+    parse_scene(text, file);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("a Kannala-Brandt camera builds with its four coefficients", "[scene][camera]") {
+  const auto s = parse_scene(kHead + R"([camera]
+model = "kannala_brandt"
+fx = 160
+width = 400
+height = 300
+fov_deg = 185
+coefficients = [0.01, -0.002, 0.0003, -0.00001]
+)", "kb.toml");
+  REQUIRE(s.camera.lens.coefficients.size() == 4);
+  CHECK(s.camera.lens.coefficients[1] == -0.002);
+  const auto cam = scene::build_camera(s.camera);
+  CHECK(cam->lens().name() == "kannala_brandt");
+  // θ(1 + k1θ² + …) at θ = 60°, independent of the lens code: the radius of that direction's pixel.
+  const double t = M_PI / 3, r = 160 * t * (1 + 0.01 * t * t - 0.002 * std::pow(t, 4) + 0.0003 * std::pow(t, 6) -
+                                              0.00001 * std::pow(t, 8));
+  const Eigen::Vector3d d(std::sin(t), 0, std::cos(t));
+  const auto px = cam->lens().project(d);
+  REQUIRE(px);
+  CHECK(px->x() - 199.5 == Approx(r).epsilon(1e-12));
+}
+
+TEST_CASE("a make_lens error is reported at the key it names", "[scene][camera][errors]") {
+  const std::string e = error_of(kHead + R"([camera]
+model = "kannala_brandt"
+fx = 160
+width = 400
+height = 300
+fov_deg = 185
+coefficients = [0.01, -0.002, 0.0003]
+)");
+  CHECK_THAT(e, Catch::StartsWith("bad.toml:14:"));
+  CHECK_THAT(e, Catch::Contains("camera.coefficients") && Catch::Contains("needs 4"));
+}
+
+TEST_CASE("a preset lens on a preset sensor, binned", "[scene][camera]") {
+  const auto s = parse_scene(kHead + R"([camera]
+lens_preset = "fujinon_fe185c057ha1"
+sensor_preset = "sony_imx250mzr"
+binning = 4
+)", "preset.toml");
+  const auto cam = scene::build_camera(s.camera);
+  CHECK(cam->width() == 612);
+  CHECK(cam->height() == 512);
+  // 1.8 mm / 3.45 µm, then 4×4 binning divides the focal length in pixels by 4.
+  CHECK(cam->lens().intrinsics().fx == Approx(1.8e3 / 3.45 / 4).epsilon(1e-12));
+  CHECK(cam->lens().max_field_angle() == Approx(92.5 * M_PI / 180).epsilon(1e-12));
+}
+
+TEST_CASE("a quaternion orientation is carried as heading, tilt and roll", "[scene][camera]") {
+  // A camera at heading 30°, tilt 40°, roll 20°, given as the quaternion of that rotation.
+  const Eigen::Quaterniond q(camera::world_from_heading_tilt_roll(30, 40, 20));
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "[camera]\nmodel = \"equidistant\"\nfx = 100\nwidth = 64\nheight = 64\nquaternion = [%.17g, %.17g, "
+                "%.17g, %.17g]\n",
+                q.w(), q.x(), q.y(), q.z());
+  const auto s = parse_scene(kHead + text, "q.toml");
+  CHECK(s.camera.heading_deg == Approx(30).margin(1e-9));
+  CHECK(s.camera.tilt_deg == Approx(40).margin(1e-9));
+  CHECK(s.camera.roll_deg == Approx(20).margin(1e-9));
+  CHECK(error_of(kHead + text + "heading_deg = 10\n").find("not both") != std::string::npos);
+}
+
+TEST_CASE("an OCamCalib file resolves against the scene's folder and is stored absolute", "[scene][camera]") {
+  const std::filesystem::path data = std::filesystem::path(SKYPOL_SOURCE_DIR) / "tests/camera/data";
+  const std::string scene_file = (data / "scene.toml").string();  // never read: the text is given
+  const auto s = parse_scene(kHead + "[camera]\nmodel = \"ocam\"\nocamcalib_path = \"ocam_calib_results.txt\"\n",
+                             scene_file);
+  CHECK(std::filesystem::path(s.camera.lens.ocamcalib_path).is_absolute());
+  CHECK(std::filesystem::equivalent(s.camera.lens.ocamcalib_path, data / "ocam_calib_results.txt"));
+  const auto again = scene::parse_camera(s.camera.description, "header");
+  CHECK(again.lens.ocamcalib_path == s.camera.lens.ocamcalib_path);
+  const std::string e =
+      error_of(kHead + "[camera]\nmodel = \"ocam\"\nocamcalib_path = \"missing.txt\"\n", scene_file);
+  CHECK_THAT(e, Catch::Contains("camera.ocamcalib_path") && Catch::Contains("no such file"));
+}
+
+TEST_CASE("a tabulated lens reads its (angle, height) rows", "[scene][camera]") {
+  const auto s = parse_scene(kHead + R"([camera]
+model = "tabulated"
+pitch_um = 10
+width = 200
+height = 200
+table = [[0, 0.0], [30, 0.3], [60, 0.6], [90, 0.9]]
+)", "tab.toml");
+  REQUIRE(s.camera.lens.table.size() == 4);
+  const auto cam = scene::build_camera(s.camera);
+  // 0.3 mm at 30° with 10 µm pixels: 30 px from the centre.
+  const auto px = cam->lens().project(Eigen::Vector3d(std::sin(M_PI / 6), 0, std::cos(M_PI / 6)));
+  REQUIRE(px);
+  CHECK(px->x() - 99.5 == Approx(30).epsilon(1e-9));
+  CHECK_THAT(error_of(kHead + "[camera]\nmodel = \"tabulated\"\npitch_um = 10\nwidth = 9\nheight = 9\ntable = [[0, 1, 2]]\n"),
+             Catch::Contains("camera.table") && Catch::Contains("rows"));
+}
+
+TEST_CASE("sky keys: Berry's separation, Preetham's turbidity range, clouds", "[scene][sky]") {
+  const std::string cam = "[camera]\nfx = 20\nwidth = 64\nheight = 64\n";
+  const auto s = parse_scene(kHead + cam + R"([sky]
+model = "berry"
+separation_deg = 12
+max_dolp = 0.7
+intensity = "preetham"
+turbidity = 3
+[sky.clouds]
+coverage = 0.4
+seed = 7
+)", "sky.toml");
+  CHECK(s.sky.model == "berry");
+  CHECK(s.sky.separation_deg == 12);
+  CHECK(s.sky.clouds.coverage == 0.4);
+  CHECK(s.sky.clouds.seed == 7);
+  CHECK(scene::build_sky(s.sky)->name() == "berry");
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nseparation_deg = 12\n"), Catch::Contains("only by model \"berry\""));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nintensity = \"preetham\"\nturbidity = 1.5\n"),
+             Catch::Contains("sky.turbidity") && Catch::Contains("[2, 10]"));
+  CHECK_THAT(error_of(kHead + cam + "[sky.clouds]\ncovrage = 0.4\n"),
+             Catch::Contains("unknown key 'sky.clouds.covrage'") && Catch::Contains("did you mean 'sky.clouds.coverage'"));
+}
+
+TEST_CASE("sensor keys: a preset, overrides, and the errors of a sensor that cannot work", "[scene][sensor]") {
+  const std::string cam = "[camera]\nfx = 20\nwidth = 64\nheight = 48\n";
+  const auto s = parse_scene(kHead + cam + "[sensor]\npreset = \"sony_imx250mzr\"\nread_noise_e = 5\n", "s.toml");
+  REQUIRE(s.sensor);
+  CHECK(s.sensor->dofp.width == 64);  // the camera's size, not the preset's
+  CHECK(s.sensor->dofp.height == 48);
+  CHECK(s.sensor->dofp.read_noise_e == 5);
+  CHECK(s.sensor->dofp.full_well_e == 11000);  // from the preset
+  CHECK_FALSE(parse_scene(kHead + cam, "none.toml").sensor);  // no section, no sensor
+  CHECK_THAT(error_of(kHead + cam + "[sensor]\ncolor_filter = \"rggb_blocks\"\n"),
+             Catch::Contains("sensor.color_filter") && Catch::Contains("bands R, G, B"));
+  CHECK_THAT(error_of(kHead + cam + "[sensor]\nmosaic_deg = [0, 45, 90]\n"),
+             Catch::Contains("sensor.mosaic_deg") && Catch::Contains("4 numbers"));
+  CHECK_THAT(error_of(kHead + cam + "[sensor]\npreset = \"nikon\"\n"),
+             Catch::Contains("sensor.preset") && Catch::Contains("sony_imx250mzr"));
+}
+
+TEST_CASE("a scene of night frames only is refused, naming its time key", "[scene][errors]") {
+  // Marseille at 22:00–23:00 UTC in September: the sun is far below the horizon.
+  const std::string e = error_of(R"([site]
+latitude_deg = 43.28699
+longitude_deg = 5.40336
+[time]
+start = "2022-09-23T22:00:00Z"
+end = "2022-09-23T23:00:00Z"
+step_min = 30
+[camera]
+fx = 20
+width = 64
+height = 64
+)");
+  CHECK_THAT(e, Catch::StartsWith("bad.toml:5:") && Catch::Contains("time.start") && Catch::Contains("below the horizon"));
+}
+
+TEST_CASE("the raw mosaic is a channel only with a sensor", "[scene][sensor][errors]") {
+  const std::string cam = "[camera]\nfx = 20\nwidth = 64\nheight = 48\n";
+  const auto s = parse_scene(kHead + cam + "[sensor]\n[output]\nchannels = [\"DoLP\", \"raw\"]\n", "raw.toml");
+  CHECK(s.output.channels.back() == "raw");
+  CHECK_THAT(error_of(kHead + cam + "[output]\nchannels = [\"DoLP\", \"raw\"]\n"),
+             Catch::Contains("output.channels") && Catch::Contains("needs a [sensor]"));
+}
