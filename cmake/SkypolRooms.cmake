@@ -1,0 +1,68 @@
+# The rooms' dependency rules (docs/architecture.md), checked on the link closure of every library
+# at configure time: a target that reaches a library its room may not use is a configure error,
+# naming the path through which it arrives. The include-level twin is tests/rooms_check.cmake.
+
+# Every target `target` links, directly or through others, as "a>b>c" paths keyed by the last name.
+function(_skypol_link_closure target out_var)
+  set(seen "")
+  set(queue "${target}")
+  set(paths_${target} "${target}")
+  while(queue)
+    list(POP_FRONT queue t)
+    if(NOT TARGET ${t})
+      continue()
+    endif()
+    get_target_property(aliased ${t} ALIASED_TARGET)
+    set(libs "")
+    get_target_property(type ${t} TYPE)
+    if(NOT type STREQUAL "INTERFACE_LIBRARY")
+      get_target_property(direct ${t} LINK_LIBRARIES)
+      if(direct)
+        list(APPEND libs ${direct})
+      endif()
+    endif()
+    get_target_property(iface ${t} INTERFACE_LINK_LIBRARIES)
+    if(iface)
+      list(APPEND libs ${iface})
+    endif()
+    foreach(lib IN LISTS libs)
+      # $<LINK_ONLY:x> and similar wrappers: keep the name inside.
+      string(REGEX REPLACE "^\\$<[A-Z_]+:(.*)>$" "\\1" lib "${lib}")
+      if(lib MATCHES "^\\$<" OR lib IN_LIST seen)
+        continue()
+      endif()
+      list(APPEND seen ${lib})
+      list(APPEND queue ${lib})
+      set(paths_${lib} "${paths_${t}}>${lib}")
+    endforeach()
+  endwhile()
+  set(result "")
+  foreach(lib IN LISTS seen)
+    list(APPEND result "${paths_${lib}}")
+  endforeach()
+  set(${out_var} "${result}" PARENT_SCOPE)
+endfunction()
+
+# skypol_check_room(TARGET t FORBIDDEN a b …): fail if t's link closure holds any of them.
+function(skypol_check_room)
+  cmake_parse_arguments(R "" "TARGET" "FORBIDDEN" ${ARGN})
+  _skypol_link_closure(${R_TARGET} closure)
+  foreach(path IN LISTS closure)
+    string(REGEX REPLACE "^.*>" "" last "${path}")
+    if(last IN_LIST R_FORBIDDEN)
+      string(REPLACE ">" " -> " shown "${path}")
+      message(FATAL_ERROR "rooms: ${R_TARGET} must not link ${last} (docs/architecture.md), but does: ${shown}")
+    endif()
+  endforeach()
+endfunction()
+
+set(_skypol_above_render skypol_render skypol_studies embree TBB::tbb_embree)
+skypol_check_room(TARGET skypol_sky FORBIDDEN skypol_camera skypol_scene skypol_stack ${_skypol_above_render}
+                  skypol_skypole OpenImageIO::OpenImageIO OpenEXR::OpenEXR tomlplusplus::tomlplusplus)
+skypol_check_room(TARGET skypol_camera FORBIDDEN skypol_scene skypol_stack ${_skypol_above_render} skypol_skypole
+                  OpenImageIO::OpenImageIO OpenEXR::OpenEXR tomlplusplus::tomlplusplus)
+skypol_check_room(TARGET skypol_scene FORBIDDEN skypol_stack ${_skypol_above_render} skypol_skypole
+                  OpenImageIO::OpenImageIO OpenEXR::OpenEXR)
+skypol_check_room(TARGET skypol_stack FORBIDDEN ${_skypol_above_render} skypol_skypole)
+skypol_check_room(TARGET skypol_skypole FORBIDDEN ${_skypol_above_render})
+skypol_check_room(TARGET skypol_render FORBIDDEN skypol_studies skypol_skypole)
