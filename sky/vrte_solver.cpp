@@ -113,7 +113,8 @@ Frame frame(double mu, double phi, int up) {
 }
 
 // Z = L(χ_out)·ωF(Θ)·L(χ_in), ns×ns, row-major into z.
-void phase_matrix(const Frame& in, const Frame& out, const ScaledLayer& layer, int ns, double* z) {
+template <class OmegaF>
+void phase_matrix(const Frame& in, const Frame& out, const OmegaF& omega_f, int ns, double* z) {
   Eigen::Vector3d nrm = in.d.cross(out.d);
   const double nn = nrm.squaredNorm();
   if (nn < 1e-24) {
@@ -122,7 +123,7 @@ void phase_matrix(const Frame& in, const Frame& out, const ScaledLayer& layer, i
     nrm /= std::sqrt(nn);
   }
   const double x = std::clamp(in.d.dot(out.d), -1.0, 1.0);
-  const Elements f = layer.omega_f(x);
+  const Elements f = omega_f(x);
   const Eigen::Vector3d a_in = nrm.cross(in.d);
   const double ci = a_in.dot(in.e0), si = a_in.dot(in.e90);
   const double c2i = ci * ci - si * si, s2i = 2.0 * si * ci;
@@ -165,7 +166,7 @@ void kernels(const Layout& lay, const std::vector<double>& mu, const ScaledLayer
         const Frame in = frame(mu[static_cast<std::size_t>(j)], 0.0, in_up);
         for (int k = 0; k < nphi; ++k) {
           const Frame out = frame(mu[static_cast<std::size_t>(i)], 2.0 * std::numbers::pi * k / nphi, out_up);
-          phase_matrix(in, out, layer, ns, &z[static_cast<std::size_t>(k * ns * ns)]);
+          phase_matrix(in, out, [&](double x) { return layer.omega_f(x); }, ns, &z[static_cast<std::size_t>(k * ns * ns)]);
         }
         for (int m = 0; m < terms; ++m) {
           MatrixXd& km = K[static_cast<std::size_t>(m)];
@@ -278,6 +279,23 @@ struct Solver {
 
 }  // namespace
 
+template <class OmegaF>
+StokesIQU single_scattering(const OmegaF& omega_f, double tau, double mu, double mu0, double dphi, bool up) {
+  if (!(mu0 > 0.0) || !(tau > 0.0)) return {};
+  double z[9];
+  phase_matrix(frame(mu0, 0.0, +1), frame(mu, dphi, up ? -1 : +1), omega_f, 3, z);
+  const double g = (up ? reflect_factor(mu, mu0, tau) : transmit_factor(mu, mu0, tau)) / (4.0 * std::numbers::pi);
+  return {z[0] * g, z[3] * g, z[6] * g};
+}
+
+StokesIQU single_scattering(const ScaledLayer& layer, double mu, double mu0, double dphi, bool up) {
+  return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, dphi, up);
+}
+
+StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double dphi, bool up) {
+  return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, dphi, up);
+}
+
 FourierSolution solve(const ScaledLayer& layer, double albedo, std::span<const double> mu_out,
                       const SolverOptions& opt) {
   if (opt.streams < 2) throw std::invalid_argument("vrte: streams must be >= 2, got " + std::to_string(opt.streams));
@@ -315,6 +333,8 @@ FourierSolution solve(const ScaledLayer& layer, double albedo, std::span<const d
   out.down.assign(static_cast<std::size_t>(terms) * nx * nx * 3, 0.0);
   out.up.assign(out.down.size(), 0.0);
   out.ground.assign(nx, 0.0);
+  out.ss_down.assign(out.down.size(), 0.0);
+  out.ss_up.assign(out.down.size(), 0.0);
   out.gauss_mu = gx;
   out.gauss_w = gw;
   out.stokes = s.lay.ns;
@@ -396,6 +416,13 @@ FourierSolution solve(const ScaledLayer& layer, double albedo, std::span<const d
               const std::size_t o = ((static_cast<std::size_t>(m) * nx + i) * nx + j) * 3 + static_cast<std::size_t>(k);
               out.down[o] = down(r, c) * sun;
               out.up[o] = up(r, c) * sun;
+              if (layer.tau > 0.0) {
+                const double mv = s.mu[static_cast<std::size_t>(s.lay.ng) + i];
+                const double ms = s.mu[static_cast<std::size_t>(s.lay.ng) + j];
+                const auto mi = static_cast<std::size_t>(m);
+                out.ss_down[o] = kdd[mi](r, c) * transmit_factor(mv, ms, layer.tau) * sun;
+                out.ss_up[o] = kud[mi](r, c) * reflect_factor(mv, ms, layer.tau) * sun;
+              }
             }
           }
         if (m == 0) {

@@ -41,6 +41,9 @@ struct FourierSolution {
   int terms = 0;           // m = 0 .. terms − 1
   std::vector<double> down, up;  // [((m·n + i)·n + j)·3 + k], k = I, Q, U
   std::vector<double> ground;    // [j]: the Lambertian ground's radiance (unpolarized)
+  // The part of down/up that is the direct beam scattered once by the (truncated) layer, in the
+  // same layout: what a table subtracts to keep only the smooth rest (Nakajima & Tanaka 1988).
+  std::vector<double> ss_down, ss_up;
   double scaled_tau = 0;         // τ' after delta-M
   // With keep_gauss_matrices: the Gauss nodes and, per m, the total reflection at the top and the
   // diffuse transmission to the ground as (ns·N)² operators on radiance amplitudes (ns = 3 or 4
@@ -62,6 +65,16 @@ struct FourierSolution {
 // albedo ∈ [0, 1]. Throws std::invalid_argument otherwise.
 FourierSolution solve(const ScaledLayer& layer, double albedo, std::span<const double> mu,
                       const SolverOptions& options = {});
+
+// The direct sun scattered once by a layer with scattering source ωF and depth tau, in closed
+// form, in FourierSolution's convention (per unit solar irradiance, meridian basis, Δφ in
+// radians): "down" at the ground looking up at mu, "up" at the top looking down at mu.
+// Exact for any (mu, mu0, Δφ); mu = 0 and mu0 = 0 give the limits.
+struct StokesIQU {
+  double i = 0, q = 0, u = 0;
+};
+StokesIQU single_scattering(const ScaledLayer& layer, double mu, double mu0, double dphi, bool up);
+StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double dphi, bool up);
 
 // Gauss–Legendre nodes and weights on (0, 1).
 void gauss_legendre01(int n, std::vector<double>& x, std::vector<double>& w);

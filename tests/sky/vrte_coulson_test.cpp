@@ -1,0 +1,69 @@
+// The VRTE solver against the Coulson, Dave & Sekera (1960) tables as corrected by Natraj, Li &
+// Yung (2009): a pure Rayleigh layer, no depolarization, τ = 0.5, μ0 = 0.2. The values are the
+// tables' (quoted in the issue and in SASKTRAN2's tests and documentation); the solver never saw
+// them. Q and U are in the tables' sign convention (sky/vrte_point.h says how it maps to skypol's).
+#include <catch2/catch.hpp>
+
+#include <array>
+
+#include "sky/vrte_point.h"
+
+using skypol::sky::vrte::coulson_point;
+
+namespace {
+struct Entry {
+  double mu, dphi_deg;
+  std::array<double, 3> iqu;
+};
+
+void check_reflected(double albedo, const std::array<Entry, 6>& table) {
+  for (const Entry& e : table) {
+    const auto r = coulson_point(0.5, albedo, 0.0, 0.2, e.mu, e.dphi_deg);
+    INFO("albedo " << albedo << " mu " << e.mu << " dphi " << e.dphi_deg);
+    CHECK(r.top_up.i == Approx(e.iqu[0]).margin(1e-5));
+    CHECK(r.top_up.q == Approx(e.iqu[1]).margin(1e-5));
+    CHECK(r.top_up.u == Approx(e.iqu[2]).margin(1e-5));
+  }
+}
+}  // namespace
+
+TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0, reflected: the issue's twelve values within 1e-5",
+          "[vrte][coulson]") {
+  check_reflected(0.0, {{{0.02, 0, {0.44129802, -0.01753141, 0}},
+                         {0.02, 60, {0.30091208, -0.15965601, 0.07365528}},
+                         {0.4, 0, {0.16889020, 0.01119511, 0}},
+                         {0.4, 60, {0.12752450, -0.06066038, 0.05293867}},
+                         {1.0, 0, {0.05300496, 0.03755859, 0}},
+                         {1.0, 60, {0.05300496, -0.01877930, 0.03252669}}}});
+}
+
+TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0.8, reflected (SASKTRAN2 legacy tests' values)",
+          "[vrte][coulson]") {
+  // The ground adds only to I and to the m = 0 part of Q: U and the μ = 1 Q are the albedo-0 values.
+  check_reflected(0.8, {{{0.02, 0, {0.47382125, -0.01553672, 0}},
+                         {0.4, 0, {0.23059806, 0.01144320, 0}},
+                         {1.0, 0, {0.13280858, 0.03755859, 0}},
+                         {0.02, 60, {0.33343531, -0.15766132, 0.07365528}},
+                         {0.4, 60, {0.18923236, -0.06041229, 0.05293867}},
+                         {1.0, 60, {0.13280858, -0.01877930, 0.03252669}}}});
+}
+
+TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0, reflected at other azimuths (SASKTRAN2 docs' values)",
+          "[vrte][coulson]") {
+  const auto a = coulson_point(0.5, 0.0, 0.0, 0.2, 0.02, 30.0);
+  CHECK(a.top_up.i == Approx(0.39444956).margin(1e-5));
+  CHECK(a.top_up.q == Approx(-0.06485313).margin(1e-5));
+  CHECK(a.top_up.u == Approx(0.04390364).margin(1e-5));
+  const auto b = coulson_point(0.5, 0.0, 0.0, 0.2, 0.92, 60.0);
+  CHECK(b.top_up.i == Approx(0.05643322).margin(1e-5));
+  CHECK(b.top_up.q == Approx(-0.01979730).margin(1e-5));
+  CHECK(b.top_up.u == Approx(0.03822653).margin(1e-5));
+}
+
+TEST_CASE("Fewer streams stay within the issue's 1e-4 at the default of the renderer's tables (12)",
+          "[vrte][coulson]") {
+  const auto r = coulson_point(0.5, 0.0, 0.0, 0.2, 0.02, 60.0, 12);
+  CHECK(r.top_up.i == Approx(0.30091208).margin(1e-4));
+  CHECK(r.top_up.q == Approx(-0.15965601).margin(1e-4));
+  CHECK(r.top_up.u == Approx(0.07365528).margin(1e-4));
+}
