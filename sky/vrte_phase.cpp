@@ -65,17 +65,44 @@ WignerRows wigner_rows(double x, int lmax) {
 }
 
 Elements GreekCoefficients::evaluate(double x) const {
+  // The four recurrences of wigner_rows run in step here, without storing the rows: this is the
+  // solver's inner loop (every node pair at every azimuth).
   const int L = lmax();
   if (L < 0) return {};
-  const WignerRows w = wigner_rows(x, L);
-  double f11 = 0, f44 = 0, sp = 0, sq = 0, f12 = 0, f34 = 0;
-  for (std::size_t l = 0; l <= static_cast<std::size_t>(L); ++l) {
-    f11 += a1[l] * w.d00[l];
-    f44 += a4[l] * w.d00[l];
-    sp += p[l] * w.d22[l];
-    sq += q[l] * w.d2m2[l];
-    f12 += b1[l] * w.d02[l];
-    f34 += b2[l] * w.d02[l];
+  double f11 = a1[0], f44 = a4[0], sp = 0, sq = 0, f12 = 0, f34 = 0;
+  double p0 = 1.0, p1 = x;  // Legendre
+  if (L >= 1) {
+    f11 += a1[1] * x;
+    f44 += a4[1] * x;
+  }
+  for (int l = 1; l + 1 <= L; ++l) {
+    const double lf = l;
+    const double p2 = ((2.0 * lf + 1.0) * x * p1 - lf * p0) / (lf + 1.0);
+    p0 = p1;
+    p1 = p2;
+    f11 += a1[static_cast<std::size_t>(l + 1)] * p2;
+    f44 += a4[static_cast<std::size_t>(l + 1)] * p2;
+  }
+  if (L >= 2) {
+    double e0 = 0.0, e1 = std::sqrt(3.0 / 8.0) * (1.0 - x * x);  // d02
+    double g0 = 0.0, g1 = 0.25 * (1.0 + x) * (1.0 + x);          // d22
+    double h0 = 0.0, h1 = 0.25 * (1.0 - x) * (1.0 - x);          // d2,-2
+    for (int l = 2;; ++l) {
+      const auto li = static_cast<std::size_t>(l);
+      f12 += b1[li] * e1;
+      f34 += b2[li] * e1;
+      sp += p[li] * g1;
+      sq += q[li] * h1;
+      if (l == L) break;
+      const double lf = l, l1 = lf + 1.0;
+      const double r0 = std::sqrt(l1 * l1 - 4.0), rl = std::sqrt(lf * lf - 4.0);
+      const double base = (2.0 * lf + 1.0) * lf * l1 * x;
+      // (m, n) = (0, 2): mn = 0; (2, 2): mn = 4; (2, −2): mn = −4.
+      const double e2 = (base * e1 - l1 * lf * rl * e0) / (lf * l1 * r0);
+      const double g2 = ((base - (2.0 * lf + 1.0) * 4.0) * g1 - l1 * rl * rl * g0) / (lf * r0 * r0);
+      const double h2 = ((base + (2.0 * lf + 1.0) * 4.0) * h1 - l1 * rl * rl * h0) / (lf * r0 * r0);
+      e0 = e1, e1 = e2, g0 = g1, g1 = g2, h0 = h1, h1 = h2;
+    }
   }
   return {f11, f12, 0.5 * (sp + sq), 0.5 * (sp - sq), f34, f44};
 }
