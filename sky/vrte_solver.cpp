@@ -255,6 +255,32 @@ struct Solver {
     return x;
   }
 
+  // D·X·D with D = diag(1, 1, −1, −1) per node: a homogeneous layer lit from below is its mirror
+  // image in the horizontal plane, which keeps I and Q and turns U and V (Hovenier et al. 2004,
+  // §6.1: R* = ΔRΔ, T* = ΔTΔ for a homogeneous, mirror-symmetric layer).
+  MatrixXd mirror(const MatrixXd& x) const {
+    VectorXd dr(lay.rows()), dc(lay.cols());
+    for (int r = 0; r < lay.rows(); ++r) dr(r) = (r % lay.ns) < 2 ? 1.0 : -1.0;
+    for (int c = 0; c < lay.cols(); ++c) dc(c) = (c < lay.gauss() && (c % lay.ns) >= 2) ? -1.0 : 1.0;
+    return dr.asDiagonal() * x * dc.asDiagonal();
+  }
+
+  // Doubling a homogeneous layer: only the light-from-above half is computed; the other half is
+  // its mirror image (halves the cost; tests/sky/vrte_solver_test checks it against add()).
+  Ops double_layer(const Ops& a) const {
+    const VectorXd er = e_rows(a.tau), ec = e_cols(a.tau);
+    Ops o;
+    o.tau = 2.0 * a.tau;
+    const MatrixXd p = comp(a.rs, a.r);
+    const MatrixXd d = solve_series(p, a.t + p * ec.asDiagonal());
+    const MatrixXd u = a.r * ec.asDiagonal() + comp(a.r, d);
+    o.r = a.r + er.asDiagonal() * u + comp(a.ts, u);
+    o.t = er.asDiagonal() * d + comp(a.t, d) + a.t * ec.asDiagonal();
+    o.rs = mirror(o.r);
+    o.ts = mirror(o.t);
+    return o;
+  }
+
   Ops add(const Ops& a, const Ops& b) const {
     const VectorXd era = e_rows(a.tau), eca = e_cols(a.tau), erb = e_rows(b.tau), ecb = e_cols(b.tau);
     Ops o;
@@ -389,7 +415,7 @@ FourierSolution solve(const ScaledLayer& layer, double albedo, std::span<const d
             }
           }
           atm = thin;
-          for (int k = 0; k < doublings; ++k) atm = s.add(atm, atm);
+          for (int k = 0; k < doublings; ++k) atm = opt.symmetric_doubling ? s.double_layer(atm) : s.add(atm, atm);
         }
         MatrixXd down = atm.t, up = atm.r;
         MatrixXd ground_up;

@@ -20,7 +20,8 @@ namespace skypol::sky::vrte {
 struct SolverOptions {
   int streams = 8;            // N ≥ 2
   int max_fourier = -1;       // highest m kept; −1: all the phase matrix has
-  double initial_tau = 1e-9;  // doubling starts at τ/2^k ≤ this
+  double initial_tau = 1e-6;  // doubling starts at τ/2^k ≤ this (error ≈ 2·this in I/F·π)
+  bool symmetric_doubling = true;  // light from below as the mirror image (false: computed; tests)
   int threads = 0;            // 0: std::thread::hardware_concurrency()
   bool keep_gauss_matrices = false;  // keep the Gauss-node blocks (tests: reciprocity)
 };
