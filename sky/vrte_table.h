@@ -16,9 +16,12 @@
 namespace skypol::sky::vrte {
 
 // streams: the solver's accuracy knob (Gauss nodes per hemisphere; vrte_solver.h). grid: nodes in
-// √μ on [0, 1], the same for μ0; the table is interpolated between them by cubic Lagrange in √μ
-// (dense where the sky changes fastest, at the horizon). The defaults keep the interpolation error
-// of I/F below 2e-4 of the zenith radiance (tests/sky/vrte_table_test.cpp).
+// v ∈ [0, 1] with zenith angle θ = (π/2)(1 − v²), the same for μ0; cubic Lagrange in v between
+// them (dense at the horizon, where the sky changes fastest; smooth at the zenith). With the
+// defaults the interpolation error against direct solves (tests/sky/vrte_table_test.cpp) is, for
+// view and sun above 2.3° (μ, μ0 ≥ 0.04), below 5e-5 in I/F and 0.15 % of I; closer to the horizon
+// (multiple scattering has a logarithmic edge at μ → 0) below 4e-4 and 1.5 %. grid = 33 cuts the
+// errors about threefold for 40 % more build time.
 struct TableOptions {
   int streams = 12;
   int grid = 25;
