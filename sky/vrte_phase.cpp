@@ -3,6 +3,8 @@
 // same functions expand and reconstruct, so the signs of Hovenier's P^l_{mn} do not enter).
 #include "sky/vrte_phase.h"
 
+#include "sky/vrte_solver.h"  // gauss_legendre01
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -127,25 +129,53 @@ void check_table(const ScatteringMatrixTable& t) {
 
 }  // namespace
 
-GreekCoefficients expand(const ScatteringMatrixTable& t, int lmax) {
-  check_table(t);
-  const std::size_t n = t.cos_theta.size();
-  std::vector<double> w = t.weight;
-  if (w.empty()) {  // trapezoid in cos Θ
-    w.assign(n, 0.0);
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-      const double h = 0.5 * (t.cos_theta[i + 1] - t.cos_theta[i]);
-      w[i] += h;
-      w[i + 1] += h;
+// Linear interpolation of a table in cos Θ, clamped at its ends.
+double lerp_table(const std::vector<double>& x, const std::vector<double>& v, double at) {
+  const auto it = std::lower_bound(x.begin(), x.end(), at);
+  if (it == x.begin()) return v.front();
+  if (it == x.end()) return v.back();
+  const auto hi = static_cast<std::size_t>(it - x.begin()), lo = hi - 1;
+  const double a = (at - x[lo]) / (x[hi] - x[lo]);
+  return (1.0 - a) * v[lo] + a * v[hi];
+}
+
+GreekCoefficients expand(const ScatteringMatrixTable& table, int lmax) {
+  check_table(table);
+  // Without weights the table is read as piecewise linear in cos Θ and resampled on Gauss nodes
+  // fine enough for every l asked for. (Projecting with the trapezoid rule on the table's own
+  // nodes would alias high orders into spurious coefficients and a spurious delta-M fraction.)
+  ScatteringMatrixTable resampled;
+  const ScatteringMatrixTable* tp = &table;
+  if (table.weight.empty()) {
+    const int n = std::max({4 * (lmax + 1), 2 * static_cast<int>(table.cos_theta.size()), 256});
+    std::vector<double> gx, gw;
+    gauss_legendre01(n, gx, gw);
+    for (std::size_t i = 0; i < gx.size(); ++i) {
+      const double x = 2.0 * gx[i] - 1.0;
+      resampled.cos_theta.push_back(x);
+      resampled.weight.push_back(2.0 * gw[i]);
+      resampled.f11.push_back(lerp_table(table.cos_theta, table.f11, x));
+      resampled.f12.push_back(lerp_table(table.cos_theta, table.f12, x));
+      resampled.f22.push_back(lerp_table(table.cos_theta, table.f22, x));
+      resampled.f33.push_back(lerp_table(table.cos_theta, table.f33, x));
+      resampled.f34.push_back(lerp_table(table.cos_theta, table.f34, x));
+      resampled.f44.push_back(lerp_table(table.cos_theta, table.f44, x));
     }
+    tp = &resampled;
   }
+  const ScatteringMatrixTable& t = *tp;
+  const std::size_t n = t.cos_theta.size();
+  const std::vector<double>& w = t.weight;
   const auto nl = static_cast<std::size_t>(lmax + 1);
   GreekCoefficients g{std::vector<double>(nl, 0.0), std::vector<double>(nl, 0.0), std::vector<double>(nl, 0.0),
                       std::vector<double>(nl, 0.0), std::vector<double>(nl, 0.0), std::vector<double>(nl, 0.0)};
+  // An n-node quadrature resolves orders up to about n − 1 (Gauss: f·d^l of degree ≤ 2n − 1);
+  // higher ones would be aliases, so they are left at 0.
+  const int lres = std::min(lmax, static_cast<int>(n) - 1);
   for (std::size_t i = 0; i < n; ++i) {
-    const WignerRows r = wigner_rows(t.cos_theta[i], lmax);
+    const WignerRows r = wigner_rows(t.cos_theta[i], lres);
     const double p = t.f22[i] + t.f33[i], q = t.f22[i] - t.f33[i];
-    for (std::size_t l = 0; l < nl; ++l) {
+    for (std::size_t l = 0; l <= static_cast<std::size_t>(lres); ++l) {
       const double c = 0.5 * (2.0 * static_cast<double>(l) + 1.0) * w[i];
       g.a1[l] += c * t.f11[i] * r.d00[l];
       g.a4[l] += c * t.f44[i] * r.d00[l];

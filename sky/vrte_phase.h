@@ -37,8 +37,10 @@ struct GreekCoefficients {
   Elements evaluate(double cos_theta) const;
 };
 
-// Projects a table onto l = 0..lmax with the table's own quadrature weights (trapezoid in cos Θ
-// when it has none). Throws std::invalid_argument for a malformed table (sizes, order, range).
+// Projects a table onto l = 0..lmax with the table's own quadrature weights; a table without
+// weights is read as piecewise linear in cos Θ and integrated on fine Gauss nodes. With n nodes
+// and weights, orders above n − 1 (which the quadrature cannot resolve) are set to 0: give a Mie
+// table at least 2N + 1 nodes for 2N streams. Throws std::invalid_argument for a malformed table (sizes, order, range).
 GreekCoefficients expand(const ScatteringMatrixTable& table, int lmax);
 
 // Delta-M: F = (1 − f)·F' + f·2δ(1 − cos Θ)·1, with f = a1_{L+1}/(2L+3) so that F' keeps only

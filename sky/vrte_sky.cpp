@@ -61,4 +61,16 @@ void VrteSky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<St
   }
 }
 
+void VrteSky::stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSoA& out) const {
+  const vrte::VrteTable::SunSlice slice = table_->slice(sun.direction.z());
+  for (std::size_t i = 0; i < rays.count; ++i) {
+    const Eigen::Vector3d d(rays.dx[i], rays.dy[i], rays.dz[i]), e0(rays.ux[i], rays.uy[i], rays.uz[i]);
+    const Stokes s = eval(*table_, slice, d, e0, sun.direction);
+    out.s0[i] = static_cast<float>(s.s0);
+    out.s1[i] = static_cast<float>(s.s1);
+    out.s2[i] = static_cast<float>(s.s2);
+    out.s3[i] = 0.0f;
+  }
+}
+
 }  // namespace skypol::sky

@@ -30,6 +30,7 @@ class VrteSky final : public SkyModel {
   // The batch path interpolates the table to the sun once per call, then costs one interpolation
   // in μ and the Fourier sum per ray.
   void stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<StokesF> out) const override;
+  void stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSoA& out) const override;
   const vrte::VrteTable& table() const { return *table_; }
 
  private:

@@ -67,3 +67,56 @@ TEST_CASE("Fewer streams stay within the issue's 1e-4 at the default of the rend
   CHECK(r.top_up.q == Approx(-0.15965601).margin(1e-4));
   CHECK(r.top_up.u == Approx(0.07365528).margin(1e-4));
 }
+
+TEST_CASE("The aerosol path reproduces the tables when the aerosol scatters like molecules", "[vrte][coulson]") {
+  // τ = 0.2 molecules + 0.3 of an "aerosol" whose tabulated matrix is Rayleigh's: the Greek
+  // expansion, the four-element Stokes path and the mixing must give the τ = 0.5 table.
+  skypol::sky::LayerOptics o;
+  o.tau_rayleigh = 0.2;
+  o.tau_aerosol = 0.3;
+  o.aerosol_ssa = 1.0;
+  for (int i = 0; i <= 64; ++i) {
+    const double x = -1.0 + 2.0 * i / 64.0;
+    o.aerosol.cos_theta.push_back(x);
+    o.aerosol.f11.push_back(0.75 * (1 + x * x));
+    o.aerosol.f12.push_back(-0.75 * (1 - x * x));
+    o.aerosol.f22.push_back(0.75 * (1 + x * x));
+    o.aerosol.f33.push_back(1.5 * x);
+    o.aerosol.f34.push_back(0.0);
+    o.aerosol.f44.push_back(1.5 * x);
+  }  // no weights: read as piecewise linear in cos Θ (its error sets the margin)
+  const auto r = coulson_point(o, 0.0, 0.2, 0.02, 60.0);
+  CHECK(r.top_up.i == Approx(0.30091208).margin(2e-4));
+  CHECK(r.top_up.q == Approx(-0.15965601).margin(2e-4));
+  CHECK(r.top_up.u == Approx(0.07365528).margin(2e-4));
+  const auto z = coulson_point(o, 0.0, 0.2, 1.0, 60.0);
+  CHECK(z.top_up.i == Approx(0.05300496).margin(2e-4));
+  CHECK(z.top_up.q == Approx(-0.01877930).margin(2e-4));
+  CHECK(z.top_up.u == Approx(0.03252669).margin(2e-4));
+}
+
+TEST_CASE("A Rayleigh-like aerosol tabulated with Gauss weights reproduces the tables to 1e-5", "[vrte][coulson]") {
+  skypol::sky::LayerOptics o;
+  o.tau_rayleigh = 0.2;
+  o.tau_aerosol = 0.3;
+  o.aerosol_ssa = 1.0;
+  // 16-point Gauss–Legendre on [−1, 1] (Abramowitz & Stegun 25.4.30), enough for degree 2.
+  const double x4[] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+  const double w4[] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  for (int k = 0; k < 8; ++k) {
+    const int i = k < 4 ? 3 - k : k - 4;  // ascending
+    const double x = k < 4 ? -x4[i] : x4[i], w = w4[i];
+    o.aerosol.cos_theta.push_back(x);
+    o.aerosol.weight.push_back(w);
+    o.aerosol.f11.push_back(0.75 * (1 + x * x));
+    o.aerosol.f12.push_back(-0.75 * (1 - x * x));
+    o.aerosol.f22.push_back(0.75 * (1 + x * x));
+    o.aerosol.f33.push_back(1.5 * x);
+    o.aerosol.f34.push_back(0.0);
+    o.aerosol.f44.push_back(1.5 * x);
+  }
+  const auto r = coulson_point(o, 0.0, 0.2, 0.4, 60.0);
+  CHECK(r.top_up.i == Approx(0.12752450).margin(1e-5));
+  CHECK(r.top_up.q == Approx(-0.06066038).margin(1e-5));
+  CHECK(r.top_up.u == Approx(0.05293867).margin(1e-5));
+}

@@ -173,9 +173,24 @@ TEST_CASE("The batch path agrees with the scalar path", "[vrte][sky]") {
     rays.push_back({d.cast<float>(), random_perpendicular(d, rng).cast<float>()});
   }
   const Sun sun = sun_at(200.0, 35.0);
-  for (const auto& both : batch_and_scalar(sky, rays, sun)) {
-    CHECK(both.batch.s0 == Approx(both.scalar.s0).epsilon(1e-5).margin(1e-7));
-    CHECK(both.batch.s1 == Approx(both.scalar.s1).epsilon(1e-5).margin(1e-7));
-    CHECK(both.batch.s2 == Approx(both.scalar.s2).epsilon(1e-5).margin(1e-7));
+  const auto both = batch_and_scalar(sky, rays, sun);
+  for (const auto& b : both) {
+    CHECK(b.batch.s0 == Approx(b.scalar.s0).epsilon(1e-5).margin(1e-7));
+    CHECK(b.batch.s1 == Approx(b.scalar.s1).epsilon(1e-5).margin(1e-7));
+    CHECK(b.batch.s2 == Approx(b.scalar.s2).epsilon(1e-5).margin(1e-7));
+  }
+  // The structure-of-arrays path gives the ViewRay path's floats.
+  std::vector<float> dx, dy, dz, ux, uy, uz;
+  for (const auto& r : rays) {
+    dx.push_back(r.d.x()), dy.push_back(r.d.y()), dz.push_back(r.d.z());
+    ux.push_back(r.e0.x()), uy.push_back(r.e0.y()), uz.push_back(r.e0.z());
+  }
+  std::vector<float> s0(rays.size()), s1(rays.size()), s2(rays.size()), s3(rays.size());
+  sky.stokes_soa({rays.size(), dx.data(), dy.data(), dz.data(), ux.data(), uy.data(), uz.data()}, sun,
+                 {s0.data(), s1.data(), s2.data(), s3.data()});
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    CHECK(s0[i] == both[i].batch.s0);
+    CHECK(s1[i] == both[i].batch.s1);
+    CHECK(s2[i] == both[i].batch.s2);
   }
 }
