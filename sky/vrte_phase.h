@@ -1,6 +1,6 @@
 // The scattering matrix the VRTE solver sees: molecules (Rayleigh with depolarization) plus an
 // aerosol given as a table, expanded in generalized spherical functions and delta-M truncated so
-// that a few streams integrate it (Wiscombe 1977; vector form as in Hovenier et al. 2004 §2.7).
+// that a few streams integrate it (Wiscombe 1977; the vector expansion of Hovenier et al. 2004, ch. 2).
 #pragma once
 
 #include <array>
@@ -16,18 +16,18 @@ struct Elements {
   double f11 = 0, f12 = 0, f22 = 0, f33 = 0, f34 = 0, f44 = 0;
 };
 
-// Hansen & Travis 1974 eq. 2.15: Rayleigh with depolarization factor ρ,
+// Hansen & Travis 1974 (Space Sci. Rev. 16, 527), §2: Rayleigh with depolarization factor ρ,
 // Δ = (1 − ρ)/(1 + ρ/2), Δ' = (1 − 2ρ)/(1 − ρ); ½∫F11 dμ = 1.
 Elements rayleigh_elements(double cos_theta, double depolarization);
 
 // Wigner d-functions d^l_{mn}(Θ) for l = 0..lmax at x = cos Θ, for the four (m, n) the expansion
-// uses: (0,0) = Legendre P_l, (0,2), (2,2), (2,−2). Recurrence in l (Mishchenko et al. 2002 B.22).
+// uses: (0,0) = Legendre P_l, (0,2), (2,2), (2,−2). Three-term recurrence in l (Mishchenko, Travis & Lacis 2002, appendix B).
 struct WignerRows {
   std::vector<double> d00, d02, d22, d2m2;
 };
 WignerRows wigner_rows(double cos_theta, int lmax);
 
-// Expansion of a scattering matrix (Hovenier et al. 2004 eqs. 2.152–2.157, with real d-functions):
+// Expansion of a scattering matrix (Hovenier et al. 2004, ch. 2, written with real d-functions):
 //   F11 = Σ a1_l d00,  F44 = Σ a4_l d00,  F22+F33 = Σ p_l d22,  F22−F33 = Σ q_l d2m2,
 //   F12 = Σ b1_l d02,  F34 = Σ b2_l d02.
 // Coefficients are projections: c_l = (2l+1)/2 ∫ f d^l dx (the d^l are orthogonal with norm 2/(2l+1)).
@@ -44,7 +44,7 @@ struct GreekCoefficients {
 GreekCoefficients expand(const ScatteringMatrixTable& table, int lmax);
 
 // Delta-M: F = (1 − f)·F' + f·2δ(1 − cos Θ)·1, with f = a1_{L+1}/(2L+3) so that F' keeps only
-// l ≤ L. The forward peak goes into the direct beam (τ' = (1 − ωf)τ, Wiscombe 1977 eq. 13).
+// l ≤ L. The forward peak goes into the direct beam (τ' = (1 − ωf)τ, Wiscombe 1977).
 struct Truncated {
   GreekCoefficients coefficients;  // F', l ≤ L
   double f = 0;                    // the peak's fraction of the scattered light

@@ -7,7 +7,7 @@
 //   composition is (a∘b)(μ, μ') = ∫₀¹ a(μ, μ'') b(μ'', μ') dμ'', done with Gauss weights. The
 //   kernel of the RTE for term m, K(μ, μ') = (1/4π) ∫₀^{2π} ωZ(μ, μ', Δφ)·(cos/sin mΔφ) dΔφ, is
 //   computed from the phase matrix built geometrically (rotation into and out of the scattering
-//   plane: Hovenier et al. eq. 2.94) and summed over an azimuth grid that integrates it exactly
+//   plane, Hovenier et al. ch. 2) and summed over an azimuth grid that integrates it exactly
 //   (Z is a trigonometric polynomial of degree lmax in Δφ).
 //
 //   Thin layer (single scattering, exact exponentials): with a = t/μ, b = t/μ',
@@ -15,7 +15,7 @@
 //   Adding a over b (light from above; E = e^{−τ/μ} the direct beam, * = lit from below):
 //     D = t_a + r*_a∘r_b E_a(μ') + r*_a∘r_b∘D,    U = r_b E_a(μ') + r_b∘D,
 //     R = r_a + E_a(μ) U + t*_a∘U,               T = E_b(μ) D + t_b∘D + t_b E_a(μ'),
-//   and the mirror image for light from below (Hovenier et al. eqs. 6.12–6.19 in this form).
+//   and the mirror image for light from below (Hovenier et al. ch. 6, rewritten for radiance operators).
 //   The Lambertian ground is one more layer, r_g = 2Aμ' on I (m = 0 only), t_g = 0.
 //
 // Zero-weight points (the asked-for μ) take part as rows and columns but never in the
@@ -257,7 +257,7 @@ struct Solver {
 
   // D·X·D with D = diag(1, 1, −1, −1) per node: a homogeneous layer lit from below is its mirror
   // image in the horizontal plane, which keeps I and Q and turns U and V (Hovenier et al. 2004,
-  // §6.1: R* = ΔRΔ, T* = ΔTΔ for a homogeneous, mirror-symmetric layer).
+  // ch. 6: R* = ΔRΔ, T* = ΔTΔ for a homogeneous, mirror-symmetric layer).
   MatrixXd mirror(const MatrixXd& x) const {
     VectorXd dr(lay.rows()), dc(lay.cols());
     for (int r = 0; r < lay.rows(); ++r) dr(r) = (r % lay.ns) < 2 ? 1.0 : -1.0;

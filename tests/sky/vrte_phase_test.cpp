@@ -42,7 +42,7 @@ TEST_CASE("Wigner d-functions match their closed forms", "[vrte][phase]") {
     // d^l_{02} = sqrt((l−2)!/(l+2)!) P_l^2: P_3^2 = 15 x (1 − x²), P_4^2 = 7.5 (7x² − 1)(1 − x²)
     CHECK(w.d02[3] == Approx(15 * x * (1 - x * x) / std::sqrt(120.0)).margin(1e-14));
     CHECK(w.d02[4] == Approx(7.5 * (7 * x * x - 1) * (1 - x * x) / std::sqrt(360.0)).margin(1e-14));
-    // d^3_{22} = (1+x)²(3x − 2)/4, d^3_{2,−2} = (1−x)²(3x + 2)/4 (Varshalovich et al. table 4.6)
+    // d^3_{22} = (1+x)²(3x − 2)/4, d^3_{2,−2} = (1−x)²(3x + 2)/4 (tables of Wigner d-functions)
     CHECK(w.d22[3] == Approx(0.25 * (1 + x) * (1 + x) * (3 * x - 2)).margin(1e-14));
     CHECK(w.d2m2[3] == Approx(0.25 * (1 - x) * (1 - x) * (3 * x + 2)).margin(1e-14));
   }
@@ -57,7 +57,7 @@ TEST_CASE("Depolarized Rayleigh matrix: phase function averages to 1, forward F2
     CHECK(sum == Approx(1.0).margin(1e-14));  // ½∫F11 dμ with ∫₀¹ weights on [−1,1] halved
     const Elements f = rayleigh_elements(1.0, rho);
     CHECK(f.f22 == Approx(f.f33));
-    // degree of polarization at 90°: (1 − ρ)/(1 + ρ) (Hansen & Travis eq. 2.16)
+    // degree of polarization at 90°: (1 − ρ)/(1 + ρ) (Hansen & Travis 1974)
     const Elements r = rayleigh_elements(0.0, rho);
     CHECK(-r.f12 / r.f11 == Approx((1 - rho) / (1 + rho)).margin(1e-14));
   }
@@ -104,7 +104,7 @@ TEST_CASE("Delta-M keeps the phase function's normalisation and moves the peak i
   CHECK(t.f == Approx(std::pow(gg, 16)).margin(1e-14));
   CHECK(t.coefficients.lmax() == 15);
   CHECK(t.coefficients.a1[0] == Approx(1.0).margin(1e-14));
-  // asymmetry factor of the truncated function: (g − f)/(1 − f) (Wiscombe eq. 5)
+  // asymmetry factor of the truncated function: (g − f)/(1 − f) (Wiscombe 1977)
   CHECK(t.coefficients.a1[1] / 3 == Approx((gg - t.f) / (1 - t.f)).margin(1e-14));
 }
 

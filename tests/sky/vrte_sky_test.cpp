@@ -80,7 +80,7 @@ TEST_CASE("Thin atmosphere: DoLP and AoLP are RayleighSky's, radiance the closed
       CHECK(v.dolp() == Approx(r.dolp()).margin(5e-4));
       // Near the sun and anti-sun (DoLP → 0) the angle of a weak polarization is undefined.
       if (r.dolp() > 0.2) CHECK(std::abs(axial_diff(v.aolp(), r.aolp())) < 0.03 * kDeg);
-      // I/F = (3/4)(1 + cos²γ)/(4π) · μ0 (e^{−τ/μ} − e^{−τ/μ0})/(μ − μ0)  (e.g. Liou 2002 eq. 6.3.6)
+      // I/F = (3/4)(1 + cos²γ)/(4π) · μ0 (e^{−τ/μ} − e^{−τ/μ0})/(μ − μ0)  (single scattering of a thin layer)
       const double mu = d.z(), mu0 = sun.direction.z(), c = d.dot(sun.direction);
       const double f = std::abs(mu - mu0) < 1e-9 ? tau / mu0 * std::exp(-tau / mu0)
                                                    : mu0 * (std::exp(-tau / mu) - std::exp(-tau / mu0)) / (mu - mu0);

@@ -1,7 +1,7 @@
 // The doubling–adding solver's invariants: a thin layer is the closed-form single scattering
 // (I, Q and U, reflected and transmitted, in the meridian basis of sky/vrte_solver.h); a
 // conservative layer conserves flux; reflection and transmission obey reciprocity (Hovenier et
-// al. 2004 eqs. 5.14–5.15); the mirror-image shortcut of the doubling equals the full adding.
+// al. 2004, ch. 5); the mirror-image shortcut of the doubling equals the full adding.
 #include <catch2/catch.hpp>
 
 #include <cmath>
