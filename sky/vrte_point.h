@@ -3,6 +3,9 @@
 // prints, and how the solver is checked against them.
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "sky/atmosphere_optics.h"
 
 namespace skypol::sky::vrte {
@@ -34,5 +37,18 @@ PointResult coulson_point(double tau, double albedo, double depolarization, doub
 // The same for any layer (molecules and aerosol, LayerOptics).
 PointResult coulson_point(const LayerOptics& optics, double albedo, double mu0, double mu, double dphi_deg,
                           int streams = 16);
+
+// A whole table in one solve (what `skypol table` prints for a layer): every (mu0, mu, dphi)
+// combination, same normalisation and signs as coulson_point. at(i0, i, k) indexes
+// mu0[i0], mu[i], dphi_deg[k].
+struct CoulsonTable {
+  std::vector<double> mu0, mu, dphi_deg;
+  std::vector<PointResult> values;
+  const PointResult& at(std::size_t i0, std::size_t i, std::size_t k) const {
+    return values[(i0 * mu.size() + i) * dphi_deg.size() + k];
+  }
+};
+CoulsonTable coulson_table(const LayerOptics& optics, double albedo, std::span<const double> mu0,
+                           std::span<const double> mu, std::span<const double> dphi_deg, int streams = 16);
 
 }  // namespace skypol::sky::vrte
