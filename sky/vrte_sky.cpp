@@ -18,7 +18,7 @@ struct Horizontal {
 
 // A unit horizontal direction, or `fallback` when the vector is (nearly) vertical.
 Horizontal unit_horizontal(double x, double y, Horizontal fallback) {
-  const double r = std::hypot(x, y);
+  const double r = std::sqrt(x * x + y * y);
   if (r < 1e-12) return fallback;
   return {x / r, y / r};
 }

@@ -102,15 +102,16 @@ struct Frame {
   Eigen::Vector3d d, e0, e90;
 };
 
-Frame frame(double mu, double phi, int up) {
+Frame frame(double mu, double c, double n, int up) {
   const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-  const double c = std::cos(phi), n = std::sin(phi);
   Frame f;
   f.d = {s * c, s * n, up * mu};
   f.e90 = {-n, c, 0.0};  // ẑ × d / |ẑ × d|, the limit along phi at the zenith
   f.e0 = f.e90.cross(f.d);
   return f;
 }
+
+Frame frame(double mu, double phi, int up) { return frame(mu, std::cos(phi), std::sin(phi), up); }
 
 // Z = L(χ_out)·ωF(Θ)·L(χ_in), ns×ns, row-major into z.
 template <class OmegaF>
@@ -306,20 +307,27 @@ struct Solver {
 }  // namespace
 
 template <class OmegaF>
-StokesIQU single_scattering(const OmegaF& omega_f, double tau, double mu, double mu0, double dphi, bool up) {
+StokesIQU single_scattering(const OmegaF& omega_f, double tau, double mu, double mu0, double cos_dphi,
+                            double sin_dphi, bool up) {
   if (!(mu0 > 0.0) || !(tau > 0.0)) return {};
   double z[9];
-  phase_matrix(frame(mu0, 0.0, +1), frame(mu, dphi, up ? -1 : +1), omega_f, 3, z);
+  phase_matrix(frame(mu0, 1.0, 0.0, +1), frame(mu, cos_dphi, sin_dphi, up ? -1 : +1), omega_f, 3, z);
   const double g = (up ? reflect_factor(mu, mu0, tau) : transmit_factor(mu, mu0, tau)) / (4.0 * std::numbers::pi);
   return {z[0] * g, z[3] * g, z[6] * g};
 }
 
 StokesIQU single_scattering(const ScaledLayer& layer, double mu, double mu0, double dphi, bool up) {
-  return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, dphi, up);
+  return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, std::cos(dphi),
+                           std::sin(dphi), up);
 }
 
 StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double dphi, bool up) {
-  return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, dphi, up);
+  return single_scattering(layer, mu, mu0, std::cos(dphi), std::sin(dphi), up);
+}
+
+StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double cos_dphi, double sin_dphi,
+                            bool up) {
+  return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, cos_dphi, sin_dphi, up);
 }
 
 FourierSolution solve(const ScaledLayer& layer, double albedo, std::span<const double> mu_out,

@@ -76,6 +76,8 @@ struct StokesIQU {
 };
 StokesIQU single_scattering(const ScaledLayer& layer, double mu, double mu0, double dphi, bool up);
 StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double dphi, bool up);
+// The same with cos Δφ and sin Δφ given (a unit pair), as the per-pixel path has them.
+StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double cos_dphi, double sin_dphi, bool up);
 
 // Gauss–Legendre nodes and weights on (0, 1).
 void gauss_legendre01(int n, std::vector<double>& x, std::vector<double>& w);

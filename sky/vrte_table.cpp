@@ -296,7 +296,7 @@ StokesIQU VrteTable::down(const SunSlice& s, double mu, double cos_dphi, double 
     const double cn = 2.0 * cos_dphi * cm - cp, sn = 2.0 * cos_dphi * sm - sp;
     cp = cm, sp = sm, cm = cn, sm = sn;
   }
-  const StokesIQU ss = single_scattering(exact_, mu, s.mu0, std::atan2(sin_dphi, cos_dphi), false);
+  const StokesIQU ss = single_scattering(exact_, mu, s.mu0, cos_dphi, sin_dphi, false);
   return {r.i + ss.i, r.q + ss.q, r.u + ss.u};
 }
 
