@@ -194,3 +194,50 @@ TEST_CASE("The batch path agrees with the scalar path", "[vrte][sky]") {
     CHECK(s2[i] == both[i].batch.s2);
   }
 }
+
+TEST_CASE("Aerosol: a bright aureole round the sun and less polarization 90 degrees from it", "[vrte][sky]") {
+  // A forward-scattering, weakly polarizing aerosol (Henyey–Greenstein g = 0.7) added to the
+  // molecules: the sky near the sun brightens many times over, and the maximum DoLP drops
+  // (aerosols depolarize the real sky: Coulson 1988; Horváth et al. 2002).
+  LayerOptics o;
+  o.tau_rayleigh = 0.1;
+  o.depolarization = 0.0279;
+  o.tau_aerosol = 0.3;
+  o.aerosol_ssa = 0.95;
+  for (int i = 0; i <= 400; ++i) {
+    const double x = -1.0 + 2.0 * i / 400.0, g = 0.7;
+    const double f = (1 - g * g) / std::pow(1 + g * g - 2 * g * x, 1.5);
+    o.aerosol.cos_theta.push_back(x);
+    o.aerosol.f11.push_back(f);
+    o.aerosol.f12.push_back(-0.1 * f * (1 - x * x));
+    o.aerosol.f22.push_back(f);
+    o.aerosol.f33.push_back(f * x);
+    o.aerosol.f34.push_back(0.0);
+    o.aerosol.f44.push_back(f * x);
+  }
+  const VrteSky hazy(std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {})));
+  const VrteSky clear(rayleigh_table(0.1, 0.0279, 0.1));
+  const Sun sun = sun_at(0.0, 40.0);
+  auto at = [&](const VrteSky& sky, double az_deg, double el_deg) {
+    const Eigen::Vector3d d = enu_direction(az_deg * kDeg, el_deg * kDeg);
+    return sky.stokes(d, meridian_e0(d), sun);
+  };
+  // 5° above the sun against 90° away on the solar vertical's far side, at the zenith's other side.
+  const double aureole_hazy = at(hazy, 0, 45).s0 / at(hazy, 180, 40).s0;
+  const double aureole_clear = at(clear, 0, 45).s0 / at(clear, 180, 40).s0;
+  CHECK(aureole_hazy > 3 * aureole_clear);
+  double max_hazy = 0, max_clear = 0;
+  for (double a = 0; a < 360; a += 5) {
+    // The circle 90° from the sun: where Rayleigh polarization peaks.
+    const Eigen::Vector3d s = sun.direction;
+    const Eigen::Vector3d u = Eigen::Vector3d::UnitZ().cross(s).normalized(), v = s.cross(u);
+    const Eigen::Vector3d d = std::cos(a * kDeg) * u + std::sin(a * kDeg) * v;
+    if (d.z() < 0.1) continue;
+    max_hazy = std::max(max_hazy, hazy.stokes(d, meridian_e0(d), sun).dolp());
+    max_clear = std::max(max_clear, clear.stokes(d, meridian_e0(d), sun).dolp());
+  }
+  CHECK(max_clear > 0.75);
+  CHECK(max_hazy < max_clear - 0.1);
+  std::printf("max DoLP 90 deg from the sun: clear %.3f, hazy %.3f; aureole ratio clear %.2f, hazy %.2f\n", max_clear,
+              max_hazy, aureole_clear, aureole_hazy);
+}
