@@ -5,8 +5,8 @@
 namespace skypol::sky::vrte {
 
 struct BenchFigures {
-  double rayleigh_build_s = 0;   // molecules only (τ = 0.0975, 550 nm), default TableOptions
-  double aerosol_build_s = 0;    // molecules + aerosol (τ_a = 0.2, Henyey–Greenstein g = 0.7 matrix)
+  double rayleigh_build_s = 0;  // molecules only (τ = 0.0975, 550 nm), default TableOptions
+  double aerosol_build_s = 0;   // molecules + aerosol (τ_a = 0.2, Henyey–Greenstein g = 0.7 matrix)
   int rayleigh_terms = 0, aerosol_terms = 0;
   double rayleigh_mrays_per_s = 0;  // VrteSky batch path, one thread, rays over the whole sky
   double aerosol_mrays_per_s = 0;

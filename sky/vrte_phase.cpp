@@ -3,13 +3,13 @@
 // same functions expand and reconstruct, so the signs of Hovenier's P^l_{mn} do not enter).
 #include "sky/vrte_phase.h"
 
-#include "sky/vrte_solver.h"  // gauss_legendre01
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "sky/vrte_solver.h"  // gauss_legendre01
 
 namespace skypol::sky::vrte {
 
@@ -121,8 +121,8 @@ void check_table(const ScatteringMatrixTable& t) {
   for (std::size_t i = 0; i < n; ++i) {
     if (!(t.cos_theta[i] >= -1.0 && t.cos_theta[i] <= 1.0)) bad("cos_theta outside [-1, 1]");
     if (i > 0 && !(t.cos_theta[i] > t.cos_theta[i - 1])) bad("cos_theta must be strictly ascending");
-    if (!std::isfinite(t.f11[i]) || !std::isfinite(t.f12[i]) || !std::isfinite(t.f22[i]) ||
-        !std::isfinite(t.f33[i]) || !std::isfinite(t.f34[i]) || !std::isfinite(t.f44[i]))
+    if (!std::isfinite(t.f11[i]) || !std::isfinite(t.f12[i]) || !std::isfinite(t.f22[i]) || !std::isfinite(t.f33[i]) ||
+        !std::isfinite(t.f34[i]) || !std::isfinite(t.f44[i]))
       bad("non-finite element");
   }
 }

@@ -21,7 +21,8 @@ struct Elements {
 Elements rayleigh_elements(double cos_theta, double depolarization);
 
 // Wigner d-functions d^l_{mn}(Θ) for l = 0..lmax at x = cos Θ, for the four (m, n) the expansion
-// uses: (0,0) = Legendre P_l, (0,2), (2,2), (2,−2). Three-term recurrence in l (Mishchenko, Travis & Lacis 2002, appendix B).
+// uses: (0,0) = Legendre P_l, (0,2), (2,2), (2,−2). Three-term recurrence in l (Mishchenko, Travis & Lacis 2002,
+// appendix B).
 struct WignerRows {
   std::vector<double> d00, d02, d22, d2m2;
 };

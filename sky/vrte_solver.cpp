@@ -23,6 +23,8 @@
 // is unpolarized.
 #include "sky/vrte_solver.h"
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -33,9 +35,6 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
-
-#include <Eigen/Geometry>
-#include <Eigen/LU>
 
 namespace skypol::sky::vrte {
 
@@ -167,7 +166,8 @@ void kernels(const Layout& lay, const std::vector<double>& mu, const ScaledLayer
         const Frame in = frame(mu[static_cast<std::size_t>(j)], 0.0, in_up);
         for (int k = 0; k < nphi; ++k) {
           const Frame out = frame(mu[static_cast<std::size_t>(i)], 2.0 * std::numbers::pi * k / nphi, out_up);
-          phase_matrix(in, out, [&](double x) { return layer.omega_f(x); }, ns, &z[static_cast<std::size_t>(k * ns * ns)]);
+          phase_matrix(
+              in, out, [&](double x) { return layer.omega_f(x); }, ns, &z[static_cast<std::size_t>(k * ns * ns)]);
         }
         for (int m = 0; m < terms; ++m) {
           MatrixXd& km = K[static_cast<std::size_t>(m)];
@@ -221,8 +221,8 @@ double transmit_factor(double mu, double mu0, double t) {
 
 struct Solver {
   Layout lay;
-  std::vector<double> mu;   // all nodes, Gauss first
-  VectorXd wrow;            // Gauss weights per Gauss row (length lay.gauss())
+  std::vector<double> mu;  // all nodes, Gauss first
+  VectorXd wrow;           // Gauss weights per Gauss row (length lay.gauss())
   std::vector<int> row_node, col_node;
 
   // a∘b
@@ -252,7 +252,9 @@ struct Solver {
     MatrixXd a = MatrixXd::Identity(g, g) - p.topLeftCorner(g, g) * wrow.asDiagonal();
     MatrixXd x(rows, lay.cols());
     x.topRows(g) = a.partialPivLu().solve(c.topRows(g));
-    if (rows > g) x.bottomRows(rows - g) = c.bottomRows(rows - g) + p.bottomLeftCorner(rows - g, g) * (wrow.asDiagonal() * x.topRows(g));
+    if (rows > g)
+      x.bottomRows(rows - g) =
+          c.bottomRows(rows - g) + p.bottomLeftCorner(rows - g, g) * (wrow.asDiagonal() * x.topRows(g));
     return x;
   }
 
@@ -307,8 +309,8 @@ struct Solver {
 }  // namespace
 
 template <class OmegaF>
-StokesIQU single_scattering(const OmegaF& omega_f, double tau, double mu, double mu0, double cos_dphi,
-                            double sin_dphi, bool up) {
+StokesIQU single_scattering(const OmegaF& omega_f, double tau, double mu, double mu0, double cos_dphi, double sin_dphi,
+                            bool up) {
   if (!(mu0 > 0.0) || !(tau > 0.0)) return {};
   double z[9];
   phase_matrix(frame(mu0, 1.0, 0.0, +1), frame(mu, cos_dphi, sin_dphi, up ? -1 : +1), omega_f, 3, z);
@@ -325,8 +327,7 @@ StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, doub
   return single_scattering(layer, mu, mu0, std::cos(dphi), std::sin(dphi), up);
 }
 
-StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double cos_dphi, double sin_dphi,
-                            bool up) {
+StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double cos_dphi, double sin_dphi, bool up) {
   return single_scattering([&](double x) { return layer.omega_f(x); }, layer.tau, mu, mu0, cos_dphi, sin_dphi, up);
 }
 

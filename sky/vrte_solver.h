@@ -4,10 +4,9 @@
 // a list at once: those angles ride along as zero-weight quadrature points.
 #pragma once
 
+#include <Eigen/Core>
 #include <span>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "sky/vrte_phase.h"
 
@@ -18,11 +17,11 @@ namespace skypol::sky::vrte {
 // needs three (m = 0, 1, 2) whatever N. `initial_tau` bounds the thickness where doubling starts
 // from single scattering (the error of that start is ∝ its thickness).
 struct SolverOptions {
-  int streams = 8;            // N ≥ 2
-  int max_fourier = -1;       // highest m kept; −1: all the phase matrix has
-  double initial_tau = 1e-6;  // doubling starts at τ/2^k ≤ this (error ≈ 2·this in I/F·π)
-  bool symmetric_doubling = true;  // light from below as the mirror image (false: computed; tests)
-  int threads = 0;            // 0: std::thread::hardware_concurrency()
+  int streams = 8;                   // N ≥ 2
+  int max_fourier = -1;              // highest m kept; −1: all the phase matrix has
+  double initial_tau = 1e-6;         // doubling starts at τ/2^k ≤ this (error ≈ 2·this in I/F·π)
+  bool symmetric_doubling = true;    // light from below as the mirror image (false: computed; tests)
+  int threads = 0;                   // 0: std::thread::hardware_concurrency()
   bool keep_gauss_matrices = false;  // keep the Gauss-node blocks (tests: reciprocity)
 };
 
@@ -38,14 +37,14 @@ struct SolverOptions {
 // an observer above the layer sees looking down at nadir angle acos mu[i]. Neither includes the
 // direct sun.
 struct FourierSolution {
-  std::vector<double> mu;  // the nodes asked for (views and suns)
-  int terms = 0;           // m = 0 .. terms − 1
+  std::vector<double> mu;        // the nodes asked for (views and suns)
+  int terms = 0;                 // m = 0 .. terms − 1
   std::vector<double> down, up;  // [((m·n + i)·n + j)·3 + k], k = I, Q, U
   std::vector<double> ground;    // [j]: the Lambertian ground's radiance (unpolarized)
   // The part of down/up that is the direct beam scattered once by the (truncated) layer, in the
   // same layout: what a table subtracts to keep only the smooth rest (Nakajima & Tanaka 1988).
   std::vector<double> ss_down, ss_up;
-  double scaled_tau = 0;         // τ' after delta-M
+  double scaled_tau = 0;  // τ' after delta-M
   // With keep_gauss_matrices: the Gauss nodes and, per m, the total reflection at the top and the
   // diffuse transmission to the ground as (ns·N)² operators on radiance amplitudes (ns = 3 or 4
   // Stokes elements), before the sun's factor (2 − δ_m0)/2π.

@@ -222,8 +222,9 @@ StokesIQU VrteTable::table(const std::vector<double>& data, double mu, double mu
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b) {
         const double w = si.w[a] * sj.w[b];
-        const std::size_t o =
-            ((static_cast<std::size_t>(m) * g + static_cast<std::size_t>(si.base + a)) * g + static_cast<std::size_t>(sj.base + b)) * 3;
+        const std::size_t o = ((static_cast<std::size_t>(m) * g + static_cast<std::size_t>(si.base + a)) * g +
+                               static_cast<std::size_t>(sj.base + b)) *
+                              3;
         for (int k = 0; k < 3; ++k) c[k] += w * data[o + static_cast<std::size_t>(k)];
       }
     const double cm = std::cos(m * dphi), sm = std::sin(m * dphi);

@@ -2,10 +2,9 @@
 // Yung (2009): a pure Rayleigh layer, no depolarization, τ = 0.5, μ0 = 0.2. The values are the
 // tables' (quoted in the issue and in SASKTRAN2's tests and documentation); the solver never saw
 // them. Q and U are in the tables' sign convention (sky/vrte_point.h says how it maps to skypol's).
-#include <catch2/catch.hpp>
-
 #include <algorithm>
 #include <array>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -181,12 +180,18 @@ TEST_CASE("Siewert 2000 problem IIA: a polarizing aerosol slab, reflected and tr
   // (A global sign of F12 flips Q and U together, so that sign is what the test fixes; the
   // magnitudes and every relative sign over azimuth, μ, up and down are checked.) Results are
   // compared in the tables' normalisation (flux π) and Coulson's sign convention.
-  const double a2[] = {0.0, 0.0, 3.726079, 2.202868, 1.190694, 0.391203, 0.105556, 0.020484, 0.003097, 0.000366, 3.5e-5, 3.0e-6};
-  const double a1[] = {1.0, 2.104031, 2.095158, 1.414939, 0.703593, 0.235001, 0.064039, 0.012837, 0.00201, 0.000246, 2.4e-5, 2.0e-6};
-  const double b1[] = {0.0, 0.0, -0.116688, -0.20937, -0.227137, -0.144524, -0.05264, -0.0124, -0.002093, -0.000267, -2.7e-5, -2.0e-6};
-  const double a4[] = {0.915207, 2.095727, 2.008624, 1.436545, 0.706244, 0.238475, 0.056448, 0.009703, 0.001267, 0.00013, 1.1e-5, 1.0e-6};
-  const double b2[] = {0.0, 0.0, 0.065456, 0.221658, 0.097752, 0.052458, 0.009239, 0.001411, 0.000133, 1.1e-5, 1.0e-6, 0.0};
-  const double a3[] = {0.0, 0.0, 3.615946, 2.240516, 1.139473, 0.365605, 0.082779, 0.013649, 0.001721, 0.000172, 1.4e-5, 1.0e-6};
+  const double a2[] = {0.0,      0.0,      3.726079, 2.202868, 1.190694, 0.391203,
+                       0.105556, 0.020484, 0.003097, 0.000366, 3.5e-5,   3.0e-6};
+  const double a1[] = {1.0,      2.104031, 2.095158, 1.414939, 0.703593, 0.235001,
+                       0.064039, 0.012837, 0.00201,  0.000246, 2.4e-5,   2.0e-6};
+  const double b1[] = {0.0,      0.0,     -0.116688, -0.20937,  -0.227137, -0.144524,
+                       -0.05264, -0.0124, -0.002093, -0.000267, -2.7e-5,   -2.0e-6};
+  const double a4[] = {0.915207, 2.095727, 2.008624, 1.436545, 0.706244, 0.238475,
+                       0.056448, 0.009703, 0.001267, 0.00013,  1.1e-5,   1.0e-6};
+  const double b2[] = {0.0,      0.0,      0.065456, 0.221658, 0.097752, 0.052458,
+                       0.009239, 0.001411, 0.000133, 1.1e-5,   1.0e-6,   0.0};
+  const double a3[] = {0.0,      0.0,      3.615946, 2.240516, 1.139473, 0.365605,
+                       0.082779, 0.013649, 0.001721, 0.000172, 1.4e-5,   1.0e-6};
   skypol::sky::LayerOptics o;
   o.tau_aerosol = 1.0;
   o.aerosol_ssa = 0.973527;

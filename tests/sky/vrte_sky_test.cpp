@@ -3,9 +3,10 @@
 // (RayleighSky: the AoLP agreement is the test of the solver's Q/U signs); with a realistic
 // optical depth the Arago, Babinet and Brewster neutral points appear on the sun's vertical at
 // the distances observed and computed since Coulson (1988); the hard cases stay finite.
-#include <catch2/catch.hpp>
+#include "sky/vrte_sky.h"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -14,7 +15,6 @@
 #include <vector>
 
 #include "sky/rayleigh.h"
-#include "sky/vrte_sky.h"
 #include "sky_test_util.h"
 
 using namespace skypol::sky;
@@ -83,14 +83,13 @@ TEST_CASE("Thin atmosphere: DoLP and AoLP are RayleighSky's, radiance the closed
       // I/F = (3/4)(1 + cos²γ)/(4π) · μ0 (e^{−τ/μ} − e^{−τ/μ0})/(μ − μ0)  (single scattering of a thin layer)
       const double mu = d.z(), mu0 = sun.direction.z(), c = d.dot(sun.direction);
       const double f = std::abs(mu - mu0) < 1e-9 ? tau / mu0 * std::exp(-tau / mu0)
-                                                   : mu0 * (std::exp(-tau / mu) - std::exp(-tau / mu0)) / (mu - mu0);
+                                                 : mu0 * (std::exp(-tau / mu) - std::exp(-tau / mu0)) / (mu - mu0);
       CHECK(v.s0 == Approx(0.75 * (1 + c * c) / (4 * kPi) * f).epsilon(2e-3));
     }
   }
 }
 
-TEST_CASE("Neutral points: Babinet, Brewster and Arago on the sun's vertical for tau 0.1 and 0.25",
-          "[vrte][sky]") {
+TEST_CASE("Neutral points: Babinet, Brewster and Arago on the sun's vertical for tau 0.1 and 0.25", "[vrte][sky]") {
   // Molecular atmosphere with the depolarization of air (ρ = 0.0279, Young 1980) and a dark
   // ground. Observed and computed distances from the sun / anti-sun are 10°–30° and grow with τ
   // (Coulson 1988, ch. 5; Horváth et al. 2002).
@@ -106,8 +105,10 @@ TEST_CASE("Neutral points: Babinet, Brewster and Arago on the sun's vertical for
     REQUIRE(arago);
     REQUIRE(brewster);
     const double d_babinet = *babinet, d_arago = 180.0 - *arago, d_brewster = -*brewster;
-    std::printf("tau %.2f: Babinet %.1f deg above the sun, Arago %.1f deg above the anti-sun, Brewster %.1f deg below the sun\n",
-                tau, d_babinet, d_arago, d_brewster);
+    std::printf(
+        "tau %.2f: Babinet %.1f deg above the sun, Arago %.1f deg above the anti-sun, Brewster %.1f deg below the "
+        "sun\n",
+        tau, d_babinet, d_arago, d_brewster);
     for (double dist : {d_babinet, d_arago, d_brewster}) {
       CHECK(dist > 5.0);
       CHECK(dist < 35.0);
@@ -121,14 +122,13 @@ TEST_CASE("Neutral points: Babinet, Brewster and Arago on the sun's vertical for
   }
 }
 
-TEST_CASE("Hard cases: sun at the zenith and at the horizon, views at the horizon, zenith and below",
-          "[vrte][sky]") {
+TEST_CASE("Hard cases: sun at the zenith and at the horizon, views at the horizon, zenith and below", "[vrte][sky]") {
   const VrteSky sky(rayleigh_table(0.25, 0.0279, 0.3));
   std::mt19937_64 rng(3);
   for (double sun_el : {90.0, 89.999, 45.0, 0.5, 0.01, 0.0, -0.01, -30.0, -90.0}) {
     const Sun sun = sun_at(10.0, sun_el);
     std::vector<Eigen::Vector3d> views{Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ(), sun.direction,
-                                       -sun.direction, enu_direction(0.3, 0.0), enu_direction(2.0, 1e-9),
+                                       -sun.direction,           enu_direction(0.3, 0.0),   enu_direction(2.0, 1e-9),
                                        enu_direction(4.0, -1e-9)};
     for (int k = 0; k < 50; ++k) views.push_back(random_unit(rng));
     for (const auto& d : views) {

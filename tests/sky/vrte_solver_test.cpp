@@ -2,14 +2,12 @@
 // (I, Q and U, reflected and transmitted, in the meridian basis of sky/vrte_solver.h); a
 // conservative layer conserves flux; reflection and transmission obey reciprocity (Hovenier et
 // al. 2004, ch. 5); the mirror-image shortcut of the doubling equals the full adding.
-#include <catch2/catch.hpp>
-
-#include <cmath>
-#include <vector>
+#include "sky/vrte_solver.h"
 
 #include <Eigen/Geometry>
-
-#include "sky/vrte_solver.h"
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;
@@ -47,8 +45,7 @@ double sum_i(const FourierSolution& s, bool up, std::size_t i, std::size_t j, do
 }
 }  // namespace
 
-TEST_CASE("A thin Rayleigh layer gives the closed-form single scattering, I, Q and U, up and down",
-          "[vrte][solver]") {
+TEST_CASE("A thin Rayleigh layer gives the closed-form single scattering, I, Q and U, up and down", "[vrte][solver]") {
   const double tau = 1e-4;
   LayerOptics o;
   o.tau_rayleigh = tau;
@@ -66,9 +63,9 @@ TEST_CASE("A thin Rayleigh layer gives the closed-form single scattering, I, Q a
           const Eigen::Vector3d e90 = Eigen::Vector3d(-std::sin(dphi), std::cos(dphi), 0);
           const Eigen::Vector3d e0 = e90.cross(d);
           const double c = d.dot(sun);  // cos Θ (light from the sun scattered towards −d)
-          const double f = up ? m0 / (m + m0) * (1 - std::exp(-tau / m - tau / m0))
-                         : i == j ? tau / m0 * std::exp(-tau / m0)
-                                  : m0 * (std::exp(-tau / m) - std::exp(-tau / m0)) / (m - m0);
+          const double f = up       ? m0 / (m + m0) * (1 - std::exp(-tau / m - tau / m0))
+                           : i == j ? tau / m0 * std::exp(-tau / m0)
+                                    : m0 * (std::exp(-tau / m) - std::exp(-tau / m0)) / (m - m0);
           const double I = 0.75 * (1 + c * c) / (4 * kPi) * f;
           const Eigen::Vector3d E = d.cross(sun);  // ⟂ the scattering plane
           const double a = E.dot(e0), b = E.dot(e90), p = 0.75 * (1 - c * c) / (4 * kPi) * f;
@@ -83,34 +80,33 @@ TEST_CASE("A thin Rayleigh layer gives the closed-form single scattering, I, Q a
       }
 }
 
-TEST_CASE("A conservative layer over a black ground reflects and transmits all the incident flux",
-          "[vrte][solver]") {
+TEST_CASE("A conservative layer over a black ground reflects and transmits all the incident flux", "[vrte][solver]") {
   // The doubling starts from single scattering in a layer of depth ≤ initial_tau; the second
   // order it leaves out loses flux in proportion to it (Wiscombe 1976): the tolerance follows it.
   for (double initial_tau : {1e-6, 1e-8})
-  for (double tau : {0.05, 0.5, 2.0}) {
-    LayerOptics o;
-    o.tau_rayleigh = tau;
-    o.depolarization = 0.03;
-    o.tau_aerosol = tau / 2;
-    o.aerosol_ssa = 1.0;
-    o.aerosol = test_aerosol(0.7);
-    SolverOptions opt;
-    opt.keep_gauss_matrices = true;
-    opt.initial_tau = initial_tau;
-    const FourierSolution s = solve(scale_layer(o, opt.streams), 0.0, std::vector<double>{}, opt);
-    const int ns = s.stokes;
-    const double t = s.scaled_tau;
-    for (std::size_t j = 0; j < s.gauss_mu.size(); ++j) {
-      double flux = s.gauss_mu[j] * std::exp(-t / s.gauss_mu[j]);  // direct beam
-      for (std::size_t i = 0; i < s.gauss_mu.size(); ++i) {
-        const auto r = static_cast<Eigen::Index>(i) * ns, c = static_cast<Eigen::Index>(j) * ns;
-        flux += s.gauss_w[i] * s.gauss_mu[i] * (s.gauss_reflection[0](r, c) + s.gauss_transmission[0](r, c));
+    for (double tau : {0.05, 0.5, 2.0}) {
+      LayerOptics o;
+      o.tau_rayleigh = tau;
+      o.depolarization = 0.03;
+      o.tau_aerosol = tau / 2;
+      o.aerosol_ssa = 1.0;
+      o.aerosol = test_aerosol(0.7);
+      SolverOptions opt;
+      opt.keep_gauss_matrices = true;
+      opt.initial_tau = initial_tau;
+      const FourierSolution s = solve(scale_layer(o, opt.streams), 0.0, std::vector<double>{}, opt);
+      const int ns = s.stokes;
+      const double t = s.scaled_tau;
+      for (std::size_t j = 0; j < s.gauss_mu.size(); ++j) {
+        double flux = s.gauss_mu[j] * std::exp(-t / s.gauss_mu[j]);  // direct beam
+        for (std::size_t i = 0; i < s.gauss_mu.size(); ++i) {
+          const auto r = static_cast<Eigen::Index>(i) * ns, c = static_cast<Eigen::Index>(j) * ns;
+          flux += s.gauss_w[i] * s.gauss_mu[i] * (s.gauss_reflection[0](r, c) + s.gauss_transmission[0](r, c));
+        }
+        INFO("tau " << tau << " mu0 " << s.gauss_mu[j] << " initial_tau " << initial_tau);
+        CHECK(flux == Approx(s.gauss_mu[j]).epsilon(10 * initial_tau * (1 + tau)));
       }
-      INFO("tau " << tau << " mu0 " << s.gauss_mu[j] << " initial_tau " << initial_tau);
-      CHECK(flux == Approx(s.gauss_mu[j]).epsilon(10 * initial_tau * (1 + tau)));
     }
-  }
 }
 
 TEST_CASE("Reciprocity: R(mu, mu0)/mu0 = D R(mu0, mu)^T D / mu, and the same for T with the layer turned over",
@@ -137,7 +133,8 @@ TEST_CASE("Reciprocity: R(mu, mu0)/mu0 = D R(mu0, mu)^T D / mu, and the same for
           const auto& R = s.gauss_reflection[static_cast<std::size_t>(m)];
           const auto& T = s.gauss_transmission[static_cast<std::size_t>(m)];
           const Eigen::Matrix4d rij = R.block(bi, bj, 4, 4) / s.gauss_mu[j];
-          const Eigen::Matrix4d rji = D.asDiagonal() * R.block(bj, bi, 4, 4).transpose() * D.asDiagonal() / s.gauss_mu[i];
+          const Eigen::Matrix4d rji =
+              D.asDiagonal() * R.block(bj, bi, 4, 4).transpose() * D.asDiagonal() / s.gauss_mu[i];
           CHECK((rij - rji).cwiseAbs().maxCoeff() < 1e-7 * (1 + rij.cwiseAbs().maxCoeff()));
           if (albedo == 0.0) {  // with a ground, T is not a layer's own transmission
             const Eigen::Matrix4d tij = T.block(bi, bj, 4, 4) / s.gauss_mu[j];
@@ -167,8 +164,7 @@ TEST_CASE("The mirror-image doubling equals the full adding equations", "[vrte][
   }
 }
 
-TEST_CASE("Zero-weight nodes at the horizon and the zenith give finite values and the right limits",
-          "[vrte][solver]") {
+TEST_CASE("Zero-weight nodes at the horizon and the zenith give finite values and the right limits", "[vrte][solver]") {
   LayerOptics o;
   o.tau_rayleigh = 0.3;
   const std::vector<double> mu{0.0, 1.0, 0.5};
@@ -178,7 +174,7 @@ TEST_CASE("Zero-weight nodes at the horizon and the zenith give finite values an
   for (int m = 0; m < s.terms; ++m)
     for (std::size_t i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) {
-        CHECK(s.down_at(m, i, 0, k) == 0.0);  // a sun at the horizon lights nothing
+        CHECK(s.down_at(m, i, 0, k) == 0.0);                        // a sun at the horizon lights nothing
         if (m > 0) CHECK(std::abs(s.down_at(m, i, 1, k)) < 1e-12);  // a sun at the zenith: no azimuth
         // A view at the zenith: only the m = 2 Q and U survive (the meridian basis turns with Δφ).
         if (m > 0 && !(m == 2 && k > 0)) CHECK(std::abs(s.down_at(m, 1, i, k)) < 1e-12);

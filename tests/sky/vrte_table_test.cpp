@@ -1,9 +1,10 @@
 // The VRTE table: its interpolation against direct solves at off-grid angles (the error bound
 // vrte_table.h states), flux conservation through lookups integrated with a quadrature of the
 // test's own, and the disk cache (naming by the inputs, atomic writes, validation on read).
-#include <catch2/catch.hpp>
+#include "sky/vrte_table.h"
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -12,8 +13,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include "sky/vrte_table.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;
@@ -75,7 +74,8 @@ Err interpolation_error(const LayerOptics& o, double albedo) {
       for (double dphi : {0.0, 0.05, 0.6, 1.6, 2.5, kPi}) {
         double d[3] = {0, 0, 0};
         for (int m = 0; m < s.terms; ++m)
-          for (int k = 0; k < 3; ++k) d[k] += s.down_at(m, i, j, k) * (k == 2 ? std::sin(m * dphi) : std::cos(m * dphi));
+          for (int k = 0; k < 3; ++k)
+            d[k] += s.down_at(m, i, j, k) * (k == 2 ? std::sin(m * dphi) : std::cos(m * dphi));
         // The table adds the untruncated single scattering; so does the reference.
         const StokesIQU st = single_scattering(layer, mu[i], mu[j], dphi, false);
         const StokesIQU se = single_scattering(table.exact(), mu[i], mu[j], dphi, false);
@@ -83,7 +83,8 @@ Err interpolation_error(const LayerOptics& o, double albedo) {
         const StokesIQU t = table.down(mu[i], mu[j], dphi);
         const double err = std::max({std::abs(t.i - d[0]), std::abs(t.q - d[1]), std::abs(t.u - d[2])});
         if (std::getenv("VRTE_VERBOSE") && (err > e.abs || err / d[0] > e.rel))
-          std::printf("  err %.2e rel %.2e at mu %.3f mu0 %.3f dphi %.2f I %.4e\n", err, err / d[0], mu[i], mu[j], dphi, d[0]);
+          std::printf("  err %.2e rel %.2e at mu %.3f mu0 %.3f dphi %.2f I %.4e\n", err, err / d[0], mu[i], mu[j], dphi,
+                      d[0]);
         e.abs = std::max(e.abs, err);
         e.rel = std::max(e.rel, err / d[0]);
         if (mu[i] >= 0.04 && mu[j] >= 0.04) {
