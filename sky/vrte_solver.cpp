@@ -23,8 +23,6 @@
 // is unpolarized.
 #include "sky/vrte_solver.h"
 
-#include <Eigen/Geometry>
-#include <Eigen/LU>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -35,6 +33,9 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 
 namespace skypol::sky::vrte {
 

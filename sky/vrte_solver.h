@@ -4,9 +4,10 @@
 // a list at once: those angles ride along as zero-weight quadrature points.
 #pragma once
 
-#include <Eigen/Core>
 #include <span>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "sky/vrte_phase.h"
 

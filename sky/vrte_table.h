@@ -21,7 +21,7 @@ namespace skypol::sky::vrte {
 // defaults the interpolation error against direct solves (tests/sky/vrte_table_test.cpp) is, for
 // view and sun above 2.3° (μ, μ0 ≥ 0.04), below 5e-5 in I/F and 0.15 % of I; closer to the horizon
 // (multiple scattering has a logarithmic edge at μ → 0) below 4e-4 and 1.5 %. grid = 33 cuts the
-// errors about threefold for 40 % more build time.
+// errors about threefold for about a third more build time.
 struct TableOptions {
   int streams = 12;
   int grid = 25;

@@ -2,9 +2,10 @@
 // Yung (2009): a pure Rayleigh layer, no depolarization, τ = 0.5, μ0 = 0.2. The values are the
 // tables' (quoted in the issue and in SASKTRAN2's tests and documentation); the solver never saw
 // them. Q and U are in the tables' sign convention (sky/vrte_point.h says how it maps to skypol's).
+#include <catch2/catch.hpp>
+
 #include <algorithm>
 #include <array>
-#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <vector>

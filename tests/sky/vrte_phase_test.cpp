@@ -1,12 +1,12 @@
 // The VRTE solver's scattering matrices: Wigner d-functions against their closed forms, the Greek
 // expansion of a tabulated matrix (Rayleigh, whose expansion ends at l = 2, is reproduced exactly),
 // delta-M truncation's bookkeeping, and the depolarized Rayleigh matrix's normalisation.
-#include "sky/vrte_phase.h"
-
 #include <catch2/catch.hpp>
+
 #include <cmath>
 #include <vector>
 
+#include "sky/vrte_phase.h"
 #include "sky/vrte_solver.h"
 
 using namespace skypol::sky;

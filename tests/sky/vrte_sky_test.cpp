@@ -3,10 +3,9 @@
 // (RayleighSky: the AoLP agreement is the test of the solver's Q/U signs); with a realistic
 // optical depth the Arago, Babinet and Brewster neutral points appear on the sun's vertical at
 // the distances observed and computed since Coulson (1988); the hard cases stay finite.
-#include "sky/vrte_sky.h"
+#include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,6 +14,7 @@
 #include <vector>
 
 #include "sky/rayleigh.h"
+#include "sky/vrte_sky.h"
 #include "sky_test_util.h"
 
 using namespace skypol::sky;

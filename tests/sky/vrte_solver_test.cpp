@@ -2,12 +2,14 @@
 // (I, Q and U, reflected and transmitted, in the meridian basis of sky/vrte_solver.h); a
 // conservative layer conserves flux; reflection and transmission obey reciprocity (Hovenier et
 // al. 2004, ch. 5); the mirror-image shortcut of the doubling equals the full adding.
-#include "sky/vrte_solver.h"
-
-#include <Eigen/Geometry>
 #include <catch2/catch.hpp>
+
 #include <cmath>
 #include <vector>
+
+#include <Eigen/Geometry>
+
+#include "sky/vrte_solver.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;

@@ -1,10 +1,9 @@
 // The VRTE table: its interpolation against direct solves at off-grid angles (the error bound
 // vrte_table.h states), flux conservation through lookups integrated with a quadrature of the
 // test's own, and the disk cache (naming by the inputs, atomic writes, validation on read).
-#include "sky/vrte_table.h"
+#include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +12,8 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include "sky/vrte_table.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;
