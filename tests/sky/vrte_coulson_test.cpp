@@ -1,7 +1,8 @@
-// The VRTE solver against the Coulson, Dave & Sekera (1960) tables as corrected by Natraj, Li &
-// Yung (2009): a pure Rayleigh layer, no depolarization, τ = 0.5, μ0 = 0.2. The values are the
-// tables' (quoted in the issue and in SASKTRAN2's tests and documentation); the solver never saw
-// them. Q and U are in the tables' sign convention (sky/vrte_point.h says how it maps to skypol's).
+// The VRTE solver against published benchmarks it never saw: the Coulson, Dave & Sekera (1960)
+// tables as corrected by Natraj, Li & Yung (2009) (the issue's twelve values for τ = 0.5, μ0 = 0.2;
+// SASKTRAN2's albedo-0.8 values; a 504-entry sample of the authors' machine-readable tables,
+// reflected and transmitted), and Siewert's (2000) polarizing aerosol slab. Q and U are in the
+// tables' sign convention (sky/vrte_point.h says how it maps to skypol's).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
