@@ -1,0 +1,19 @@
+// Timings of the VRTE sky for `skypol bench` and for sky/vrte_bench_main.cpp: what a band's table
+// costs to build and what a pixel costs to look up. A program that prints figures, never a test.
+#pragma once
+
+namespace skypol::sky::vrte {
+
+struct BenchFigures {
+  double rayleigh_build_s = 0;  // molecules only (τ = 0.0975, 550 nm), default TableOptions
+  double aerosol_build_s = 0;   // molecules + aerosol (τ_a = 0.2, Henyey–Greenstein g = 0.7 matrix)
+  int rayleigh_terms = 0, aerosol_terms = 0;
+  double rayleigh_mrays_per_s = 0;  // VrteSky batch path, one thread, rays over the whole sky
+  double aerosol_mrays_per_s = 0;
+  int threads = 0;
+};
+
+// threads: for the builds (0: all cores); the lookups run on the calling thread.
+BenchFigures bench(int threads = 0, int rays = 1 << 16);
+
+}  // namespace skypol::sky::vrte
