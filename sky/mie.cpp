@@ -281,7 +281,8 @@ void radius_grid(const LogNormal& size, double k_per_um, const MieQuadrature& q,
     const double t = (y0 - yarea) / sg;
     const double rel = std::exp(-0.5 * t * t);
     const double stretch = rel >= q.tail_fraction ? 1.0 : std::min(8.0, std::sqrt(q.tail_fraction / rel));
-    const double step = std::min(q.ln_r_step, stretch * q.size_step / x);
+    // A panel spans at most 2 ln σ_g, so narrow distributions get their own resolution.
+    const double step = std::min({q.ln_r_step, stretch * q.size_step / x, 0.25 * sg});
     double y1 = y0 + kPanel * step;
     if (y1 > ymax || ymax - y1 < 0.25 * kPanel * step) y1 = ymax;  // no sliver of a last panel
     const double half = 0.5 * (y1 - y0), mid = 0.5 * (y1 + y0);
@@ -334,9 +335,9 @@ MieEnsemble ensemble(std::span<const MieComponent> mixture, double wavelength_nm
   for (const MieComponent& comp : mixture) {
     if (comp.number_density == 0.0) continue;
     radius_grid(comp.size, k, q, r, w);
-    double wsum = 0.0;
-    for (double wi : w) wsum += wi;
-    const double scale = comp.number_density / total_density / wsum;  // number fraction / ∫n dy
+    // Number fraction over the integral of the whole (untruncated) log-normal, √(2π) ln σ_g:
+    // particles outside [r_min, r_max] count but are not integrated, as in OPAC.
+    const double scale = comp.number_density / total_density / (std::sqrt(2.0 * kPi) * std::log(comp.size.geometric_std));
     for (std::size_t i = 0; i < r.size(); ++i) {
       const double x = k * r[i];
       const int nstop = mie_coefficients(comp.m, x, a, b, d);

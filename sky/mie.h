@@ -47,7 +47,10 @@ struct LogNormal {
 };
 
 // One component of an external mixture: particles of one refractive index and one distribution,
-// with a number density in any unit (only the ratios between components matter).
+// with a number density in any unit (only the ratios between components matter). The density
+// counts the whole, untruncated log-normal; particles outside [r_min, r_max] are left out of the
+// integrals, not renormalised away (OPAC's convention, Hess et al. 1998: its truncated WASO and
+// SOOT lose 3.7 % and 11 % of their number below r_min = 0.005 µm, optically nothing).
 struct MieComponent {
   std::complex<double> m{1.5, 0.0};
   LogNormal size;
@@ -77,7 +80,7 @@ struct MieQuadrature {
 
 // Ensemble optics of a mixture at one wavelength.
 struct MieEnsemble {
-  double c_ext_um2 = 0.0;  // extinction cross section per particle (number-weighted mean), µm²
+  double c_ext_um2 = 0.0;  // extinction cross section per particle (of the untruncated mixture), µm²
   double c_sca_um2 = 0.0;  // scattering cross section per particle, µm²
   double ssa = 1.0;        // c_sca / c_ext
   double g = 0.0;          // asymmetry parameter of the ensemble (from the partial-wave sums)

@@ -161,6 +161,41 @@ TEST_CASE("Averaging reproduces OPAC's tabulated optics of its sulfate component
   }
 }
 
+TEST_CASE("Averaging reproduces OPAC's tabulated optics of the components the types are made of", "[aerosol][published]") {
+  // OPAC data files of the dry (0 % RH) components (as distributed with OPAC 4.0; read from the
+  // copies in the AeroMix package): per particle per cm³ the extinction coefficient (1/km), the
+  // single-scattering albedo and g at 550 nm, computed by OPAC with Mie theory for the same
+  // log-normal, range and refractive index as aerosol_types.cpp. (OPAC's mineral files in that
+  // copy are for spheroids, so the mineral components are not compared.)
+  struct Row {
+    const char* name;
+    double rmod, sigma, rmax, n, k;
+    double ext_per_km, ssa, g;
+  };
+  const Row rows[] = {
+      {"WASO", 0.0212, 2.24, 20.0, 1.530, 6.0e-3, 3.905e-6, 0.9615, 0.614},
+      {"INSO", 0.471, 2.51, 20.0, 1.530, 8.0e-3, 8.496e-3, 0.7300, 0.831},
+      {"SOOT", 0.0118, 2.00, 20.0, 1.750, 0.44, 5.540e-7, 0.2088, 0.336},
+      {"SSAM", 0.209, 2.03, 20.0, 1.500, 1.0e-8, 1.028e-3, 1.0, 0.691},
+      {"SSCM", 1.75, 2.03, 60.0, 1.500, 1.0e-8, 5.667e-2, 1.0, 0.795},
+  };
+  for (const Row& r : rows) {
+    INFO(r.name);
+    MieComponent c;
+    c.m = {r.n, r.k};
+    c.size = {r.rmod, r.sigma, 0.005, r.rmax};
+    const MieEnsemble e = mie_ensemble_cross_sections({&c, 1}, 550.0);
+    CHECK(e.c_ext_um2 * 1e-3 == Approx(r.ext_per_km).epsilon(3e-3));
+    CHECK(e.ssa == Approx(r.ssa).margin(1e-3));
+    // OPAC's g differs from ours by up to 0.0047 (INSO 0.831 vs 0.8263, SSCM 0.795 vs 0.7913,
+    // SSAM 0.691 vs 0.6923) while its extinction and albedo agree to its 4 digits. Ours is
+    // converged to 1e-4 (refining both radius steps 20× moves it less) and single-sphere g
+    // matches Wiscombe to 1e-6 (mie_test), so the difference is taken to be OPAC's own
+    // (its g is likely integrated from its tabulated phase function): allowed 6e-3.
+    CHECK(e.g == Approx(r.g).margin(6e-3));
+  }
+}
+
 TEST_CASE("Every named type: a normalised table obeying the sphere inequalities", "[aerosol][types]") {
   for (const std::string& name : aerosol_type_names()) {
     for (double nm : {465.0, 610.0}) {
