@@ -1,6 +1,8 @@
 #include "sky/aerosol_types.h"
 
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -134,11 +136,32 @@ double mie_angstrom_exponent(const std::vector<MieComponent>& mixture) {
   return angstrom_exponent(e440, 440.0, e870, 870.0);
 }
 
+namespace {
+
+// A named type's Ångström exponent never changes: computed once per type (two Mie runs, ~20 ms
+// for desert), behind a mutex so concurrent band tables may ask.
+double type_angstrom(const std::string& type) {
+  static std::mutex mutex;
+  static std::map<std::string, double> cache;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = cache.find(type);
+    if (it != cache.end()) return it->second;
+  }
+  const double alpha = mie_angstrom_exponent(aerosol_type(type).components);
+  const std::lock_guard<std::mutex> lock(mutex);
+  cache.emplace(type, alpha);
+  return alpha;
+}
+
+}  // namespace
+
 double effective_angstrom(const AerosolSpec& s) {
   validate(s);
   if (s.angstrom) return *s.angstrom;
-  const std::vector<MieComponent> mixture = aerosol_components(s);
-  return mixture.empty() ? 0.0 : mie_angstrom_exponent(mixture);
+  if (s.type == "none") return 0.0;
+  if (s.type == "custom") return mie_angstrom_exponent(aerosol_components(s));
+  return type_angstrom(s.type);
 }
 
 LayerOptics layer_optics(double wavelength_nm, double pressure_hpa, double altitude_m, double latitude_deg,
@@ -151,7 +174,7 @@ LayerOptics layer_optics(double wavelength_nm, double pressure_hpa, double altit
   const std::vector<MieComponent> mixture = aerosol_components(spec);
   if (mixture.empty() || spec.tau_550 == 0.0) return out;
 
-  const double alpha = spec.angstrom ? *spec.angstrom : mie_angstrom_exponent(mixture);
+  const double alpha = effective_angstrom(spec);
   out.tau_aerosol = angstrom_optical_depth(spec.tau_550, 550.0, wavelength_nm, alpha);
   MieQuadrature q;
   q.angle_nodes = spec.angle_nodes;

@@ -343,7 +343,7 @@ MieEnsemble ensemble(std::span<const MieComponent> mixture, double wavelength_nm
       const int nstop = mie_coefficients(comp.m, x, a, b, d);
       const Sums s = series_sums(a, b, nstop);
       const double wi = w[i] * scale;
-      // Cross sections: C = (2π/k²) Σ…  (B&H eqs. 4.61, 4.62); g·C_sca = (4π/k²) Σ… (eq. 4.80).
+      // Cross sections: C = (2π/k²) Σ…  (B&H eqs. 4.61, 4.62); g·C_sca = (4π/k²) Σ… (B&H sect. 4.5).
       c_ext += wi * s.ext;
       c_sca += wi * s.sca;
       gc_sca += wi * 2.0 * s.asym;
@@ -376,7 +376,7 @@ MieEnsemble ensemble(std::span<const MieComponent> mixture, double wavelength_nm
   out.g = c_sca > 0.0 ? gc_sca / c_sca : 0.0;
   if (angles) {
     // F = 4π ⟨½|S|²…⟩ / (k² ⟨C_sca⟩) = 2 ⟨½|S|²…⟩ / Σ(2n+1)(|a|²+|b|²)-sum: ½∫F11 dμ = 1 exactly
-    // in the continuum (B&H eq. 4.77 integrated).
+    // in the continuum.
     const double norm = 2.0 / c_sca;
     ScatteringMatrixTable& t = out.table;
     t.cos_theta = mu_all;

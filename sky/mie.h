@@ -15,7 +15,7 @@
 
 namespace skypol::sky {
 
-// Number of terms of the partial-wave series: Wiscombe (1980, Appl. Opt. 19, 1505) eq. 8 —
+// Number of terms of the partial-wave series: Wiscombe (1980, Appl. Opt. 19, 1505):
 // x + 4x^⅓ + 1 for x ≤ 8, x + 4.05x^⅓ + 2 for 8 < x < 4200, x + 4x^⅓ + 2 above; at least 2.
 int mie_term_count(double x);
 
@@ -24,7 +24,7 @@ int mie_term_count(double x);
 struct MieSphere {
   double qext = 0.0;
   double qsca = 0.0;
-  double qback = 0.0;  // backscattering efficiency, |Σ(2n+1)(−1)ⁿ(aₙ−bₙ)|²/x² (B&H eq. 4.82)
+  double qback = 0.0;  // backscattering efficiency, |Σ(2n+1)(−1)ⁿ(aₙ−bₙ)|²/x² (B&H sect. 4.6)
   double g = 0.0;      // ⟨cos Θ⟩
   std::vector<std::complex<double>> s1, s2;  // one per cos Θ asked for
 };

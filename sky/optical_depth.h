@@ -27,7 +27,7 @@ double king_factor_air(double wavelength_nm, double co2_ppm = kBodhaineCo2Ppm);
 // F = (6 + 3ρ)/(6 − 7ρ)). Throws std::invalid_argument unless F is finite and ≥ 1.
 double depolarization_from_king(double king_factor);
 
-// Rayleigh scattering cross section per molecule of dry air in cm² (B99 eq. 2 with the King
+// Rayleigh scattering cross section per molecule of dry air in cm² (B99, with the King
 // factor): σ = 24π³(n² − 1)² / (λ⁴ Nₛ² (n² + 2)²) · F(air), Nₛ = 2.546899·10¹⁹ cm⁻³ (288.15 K,
 // 1013.25 hPa). The density cancels against n's, so σ holds at any pressure and temperature.
 double rayleigh_cross_section_cm2(double wavelength_nm, double co2_ppm = kBodhaineCo2Ppm);

@@ -43,7 +43,7 @@ void check_table_shape(const ScatteringMatrixTable& t, std::size_t n) {
   CHECK(t.cos_theta.back() < 1.0);
 }
 
-// The inequalities of a mixture of spheres (Hovenier et al. 2004, sect. 2.7): F11 > 0,
+// The inequalities of a mixture of spheres (Hovenier, van der Mee & Domke 2004, ch. 2): F11 > 0,
 // |F12| ≤ F11, F12² + F33² + F34² ≤ F11² (equality for one sphere), F22 = F11, F44 = F33.
 void check_sphere_matrix(const ScatteringMatrixTable& t) {
   for (std::size_t i = 0; i < t.f11.size(); ++i) {
@@ -90,8 +90,8 @@ TEST_CASE("Gauss-Legendre nodes integrate polynomials up to degree 2N-1 exactly"
 }
 
 TEST_CASE("Tiny particles: the ensemble table is Rayleigh's matrix", "[aerosol][limit]") {
-  // r ≪ λ: F11 = ¾(1 + μ²), F12 = −¾(1 − μ²), F33 = (3/2)μ, F34 = 0 (Hansen & Travis 1974, eq. 2.15
-  // without depolarization), g = 0; the quadrature sum is exact (a quadratic in μ).
+  // r ≪ λ: F11 = ¾(1 + μ²), F12 = −¾(1 − μ²), F33 = (3/2)μ, F34 = 0 (Rayleigh's matrix without
+  // depolarization), g = 0; the quadrature sum is exact (a quadratic in μ).
   MieComponent c;
   c.m = {1.5, 0.0};
   c.size = {0.0005, 1.3, 0.0, 0.0};

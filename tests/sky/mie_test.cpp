@@ -186,7 +186,7 @@ TEST_CASE("Small spheres: the Rayleigh limit of Qsca, Qabs and the polarization"
   for (double x : {1e-3, 1e-2}) {
     const std::vector<double> mu = cos_deg(15.0);
     const MieSphere r = mie_sphere(m, x, mu);
-    // B&H eqs. 5.8: Qsca = (8/3)x⁴|α|², Qabs = 4x Im α, both with relative corrections O(x²).
+    // B&H ch. 5: Qsca = (8/3)x⁴|α|², Qabs = 4x Im α, both with relative corrections O(x²).
     CHECK(r.qsca == Approx(8.0 / 3.0 * std::pow(x, 4) * std::norm(alpha)).epsilon(3 * x * x));
     CHECK(r.qext - r.qsca == Approx(4.0 * x * alpha.imag()).epsilon(3 * x * x));
     CHECK(std::abs(r.g) < x * x);
@@ -217,7 +217,7 @@ TEST_CASE("Every sphere obeys F11^2 = F12^2 + F33^2 + F34^2, and Qext >= Qsca", 
       // S1 = S2 in the forward and backward directions (up to the sign convention at 180°).
       CHECK(std::abs(r.s1[0] - r.s2[0]) <= 1e-9 * std::abs(r.s1[0]));
       CHECK(std::abs(r.s1.back() + r.s2.back()) <= 1e-9 * std::abs(r.s1.back()) + 1e-300);
-      // The optical theorem: Qext = (4/x²) Re S(0°) (B&H eq. 4.76).
+      // The optical theorem: Qext = (4/x²) Re S(0°).
       CHECK(r.qext == Approx(4.0 / (x * x) * r.s1[0].real()).epsilon(1e-10));
     }
   }
