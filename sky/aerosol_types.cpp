@@ -103,6 +103,9 @@ void validate(const AerosolSpec& s) {
     if (!(std::isfinite(s.refractive_imag) && s.refractive_imag >= 0.0 && s.refractive_imag <= 2.0)) {
       bad("refractive_imag", num(s.refractive_imag) + " is outside [0, 2] (k ≥ 0: absorption)");
     }
+    if (s.refractive_real == 1.0 && s.refractive_imag == 0.0) {
+      bad("refractive_real", "1 with refractive_imag 0 is the medium itself: such particles scatter nothing");
+    }
   }
   if (!(std::isfinite(s.tau_550) && s.tau_550 >= 0.0 && s.tau_550 <= 10.0)) {
     bad("tau_550", num(s.tau_550) + " is outside [0, 10]");

@@ -235,6 +235,9 @@ double lognormal_density(double y, double yg, double s) {
 void check_component(const MieComponent& c, std::size_t i) {
   const std::string who = "mie component " + std::to_string(i);
   check_m(c.m, who);
+  if (c.m == cplx(1.0, 0.0)) {
+    throw std::invalid_argument(who + ": refractive index 1 + 0i is the medium itself (scatters nothing)");
+  }
   const LogNormal& s = c.size;
   if (!(std::isfinite(s.median_radius_um) && s.median_radius_um > 0.0)) {
     throw std::invalid_argument(who + ": median radius " + num(s.median_radius_um) + " µm must be > 0");
@@ -368,6 +371,11 @@ MieEnsemble ensemble(std::span<const MieComponent> mixture, double wavelength_nm
         if (dn != up) add(dn, s1m, s2m);  // with N odd the middle node μ = 0 is its own mirror
       }
     }
+  }
+  if (!(c_sca > 0.0)) {
+    // m = 1 + 0i (or particles far below the range of double): nothing to normalise a phase
+    // function by. Refuse rather than hand the solver NaNs.
+    throw std::invalid_argument("mie: the mixture scatters no light (refractive index 1 + 0i?)");
   }
   const double cfac = 2.0 * kPi / (k * k);
   out.c_ext_um2 = cfac * c_ext;

@@ -356,6 +356,14 @@ TEST_CASE("Aerosol spec errors start with the field's key", "[aerosol][errors]")
   s.type = "custom";
   s.refractive_imag = -0.01;
   CHECK(starts(s, "refractive_imag"));
+  s = {};
+  s.type = "custom";
+  s.refractive_real = 1.0;
+  s.refractive_imag = 0.0;
+  CHECK(starts(s, "refractive_real"));  // m = 1 scatters nothing: no phase function to normalise
+  MieComponent air;
+  air.m = {1.0, 0.0};
+  CHECK_THROWS_AS(mie_ensemble({&air, 1}, 550.0), std::invalid_argument);
   // The custom fields are checked only for custom.
   s = {};
   s.refractive_imag = -0.01;
