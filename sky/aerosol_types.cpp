@@ -187,4 +187,12 @@ LayerOptics layer_optics(double wavelength_nm, double pressure_hpa, double altit
   return out;
 }
 
+std::vector<LayerOptics> layer_optics(std::span<const double> wavelengths_nm, double pressure_hpa,
+                                      double altitude_m, double latitude_deg, const AerosolSpec& spec) {
+  std::vector<LayerOptics> out;
+  out.reserve(wavelengths_nm.size());
+  for (double nm : wavelengths_nm) out.push_back(layer_optics(nm, pressure_hpa, altitude_m, latitude_deg, spec));
+  return out;
+}
+
 }  // namespace skypol::sky

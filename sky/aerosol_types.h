@@ -9,6 +9,7 @@
 
 #include <complex>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,5 +64,9 @@ double effective_angstrom(const AerosolSpec& spec);
 // or tau_550 = 0 the aerosol table is left empty. Throws std::invalid_argument naming the field.
 LayerOptics layer_optics(double wavelength_nm, double pressure_hpa, double altitude_m, double latitude_deg,
                          const AerosolSpec& spec);
+
+// The same at each of a list of wavelengths (e.g. band_wavelength_nm of "R", "G", "B"), in order.
+std::vector<LayerOptics> layer_optics(std::span<const double> wavelengths_nm, double pressure_hpa,
+                                      double altitude_m, double latitude_deg, const AerosolSpec& spec);
 
 }  // namespace skypol::sky

@@ -297,6 +297,16 @@ TEST_CASE("layer_optics assembles Rayleigh and aerosol at one wavelength", "[aer
   zero.tau_550 = 0.0;
   CHECK(layer_optics(550.0, 1013.25, 0.0, 45.0, zero).aerosol.f11.empty());
 
+  // A list of wavelengths gives the layers in order, each the single-wavelength result.
+  const std::vector<double> bands = {band_wavelength_nm("R"), band_wavelength_nm("G"), band_wavelength_nm("B")};
+  const std::vector<LayerOptics> rgb = layer_optics(bands, 1013.25, 0.0, 45.0, spec);
+  REQUIRE(rgb.size() == 3);
+  CHECK(rgb[2].wavelength_nm == 465.0);
+  CHECK(rgb[2].tau_aerosol == l.tau_aerosol);
+  CHECK(rgb[2].aerosol.f11 == l.aerosol.f11);
+  CHECK(rgb[0].tau_rayleigh < rgb[1].tau_rayleigh);
+  CHECK(rgb[1].tau_rayleigh < rgb[2].tau_rayleigh);
+
   // A custom mode is mie_ensemble of that mode.
   AerosolSpec custom;
   custom.type = "custom";
