@@ -207,8 +207,8 @@ TEST_CASE("Every named type: a normalised table obeying the sphere inequalities"
       CHECK(e.ssa > 0.5);
       CHECK(e.ssa <= 1.0);
       // ½∫F11 dμ = 1 in the continuum; the 256-node sum misses a little of the sharpest forward
-      // peak (desert's coarse mode), never more than 2·10⁻³.
-      CHECK(quadrature_norm(e.table) == Approx(1.0).margin(2e-3));
+      // peak: 1.8·10⁻³ for desert's coarse mode at 465 nm, ≤ 5·10⁻⁵ for the others.
+      CHECK(quadrature_norm(e.table) == Approx(1.0).margin(name == "desert" ? 2e-3 : 5e-5));
       // g from the partial-wave sums and from the table: two independent routes.
       CHECK(table_g(e.table) == Approx(e.g).margin(3e-3));
       CHECK(e.g > 0.55);
