@@ -58,9 +58,9 @@ double angstrom_optical_depth(double tau_ref, double reference_nm, double wavele
 // α from two optical depths: −ln(τ₁/τ₂)/ln(λ₁/λ₂).
 double angstrom_exponent(double tau1, double wavelength1_nm, double tau2, double wavelength2_nm);
 
-// The wavelength (nm) a named band is rendered at: "R" 610, "G" 530, "B" 465 (the colour
-// filters of a Sony IMX250MYR-type polarization colour sensor, see sky/README.md for the choice),
-// "Y" 550 (mono). Any other name throws std::invalid_argument listing the legal names.
+// The wavelength (nm) a named band is rendered at: "R" 610, "G" 530, "B" 465 (round numbers at
+// typical colour-filter peaks of a Sony IMX250MYR-type polarization colour sensor — a documented
+// choice, see sky/README.md), "Y" 550 (mono). Any other name throws std::invalid_argument.
 double band_wavelength_nm(std::string_view band);
 
 // The legal band names, in the order R, G, B, Y.
