@@ -8,16 +8,28 @@
 namespace skypol::camera {
 namespace {
 
-const std::array<LensPreset, 2> kLenses = {{
+const std::array<LensPreset, 3> kLenses = {{
     {"fujinon_fe185c057ha1", "equidistant", 1.8, 185.0,
      "Fujifilm FUJINON FE185C057HA-1 datasheet: focal length 1.8 mm, angle of view 185°. The "
      "projection is taken as equidistant (nominal: the datasheet's real image height table, if "
      "you have it, belongs in a `tabulated` lens). Used by SkyPole (PNAS 2023, SI: "
      "\"FE185C57HA-1\", f/2.8)."},
-    {"sigma_8mm_f3.5", "equidistant", 8.0, 140.0,
-     "Sigma 8 mm F3.5 circular fisheye as used by Sun et al. 2019 (Sensors 19:4844, §2.1 and §4): "
-     "modelled there in equidistant imaging mode with an effective field of view of about 140°; "
-     "the lens itself covers 180° (maker's figure)."},
+    // The lens itself. lensfun's database (github.com/lensfun/lensfun, data/db/slr-sigma.xml,
+    // entries "Sigma 8mm f/3.5 EX DG Circular", checked at commit 1c8b8f0, 2026-08) gives it as
+    // <type>equisolid</type> with focal 8 mm in all three calibrations (Nikon D5100, Canon 7D,
+    // Canon 5D Mark III; the last one's panorama fit has real-focal 7.15 mm). The field is the
+    // maker's 180° for a circular fisheye: image height r = 2f·sin(θ/2), 9.177 mm at 70° off-axis,
+    // 11.31 mm (a 22.6 mm circle) at 90°.
+    {"sigma_8mm_f3.5", "equisolid", 8.0, 180.0,
+     "Sigma 8 mm F3.5 EX DG Circular Fisheye: equisolid projection, 8 mm (lensfun database, "
+     "data/db/slr-sigma.xml, \"Sigma 8mm f/3.5 EX DG Circular\", <type>equisolid</type>); "
+     "180° field (maker's figure for the circular image). Used by Sun et al. 2019 (Sensors "
+     "19:4844), who model it differently: see sun2019_sigma_8mm_equidistant_140."},
+    // What Sun et al. 2019 model, named for it: not the lens's own projection (see above).
+    {"sun2019_sigma_8mm_equidistant_140", "equidistant", 8.0, 140.0,
+     "Sun et al. 2019 (Sensors 19:4844, §2.1 and §4) model their Sigma 8 mm F3.5 in equidistant "
+     "imaging mode with an effective field of view of about 140°: this preset is that model, for "
+     "reproducing the paper. The lens itself is equisolid (sigma_8mm_f3.5)."},
 }};
 
 DofpSensor imx250_dofp() {

@@ -17,6 +17,10 @@
 //     DoLP = |τ1||τ2|/(1 + c1 c2) ≤ 1, zero exactly at the four points.
 // So S1 + i S2 = −S0·Pmax·τ1τ2/(1 + c1c2): no trig, no square root, and 1 + c1c2 > 0 for δ < 90°
 // (it vanishes only where d = ±p1 = ∓p2, i.e. if p2 = −p1).
+// (4) BDL themselves stop at |w| (their eq. 4.2, normalised to max |w| = 1, is the "intensity of
+//     polarization"). UV = |τ1||τ2|/4 = |w|/4 gives OpenSky's degree |w|/(2 − |w|) = 2UV/(1 − 2UV),
+//     the other normalisation on offer: S1 + i S2 = −S0·Pmax·τ1τ2/(2 − |τ1||τ2|), one square root;
+//     2 − |τ1||τ2| ≥ 1.
 #include "sky/berry.h"
 
 #include <cassert>
@@ -32,6 +36,17 @@
 
 namespace skypol::sky {
 
+BerryNormalisation parse_berry_normalisation(std::string_view name) {
+  if (name == "split_rayleigh") return BerryNormalisation::split_rayleigh;
+  if (name == "opensky") return BerryNormalisation::opensky;
+  throw std::invalid_argument("unknown berry normalisation \"" + std::string(name) +
+                              "\" (expected one of split_rayleigh, opensky)");
+}
+
+std::string_view berry_normalisation_name(BerryNormalisation n) {
+  return n == BerryNormalisation::opensky ? "opensky" : "split_rayleigh";
+}
+
 BerrySky::BerrySky(BerryParams params) : params_(params) {
   if (!(params_.max_dolp >= 0.0 && params_.max_dolp <= 1.0)) {
     throw std::invalid_argument("berry: max_dolp (Pmax) " + std::to_string(params_.max_dolp) + " must be in [0, 1]");
@@ -39,6 +54,10 @@ BerrySky::BerrySky(BerryParams params) : params_(params) {
   if (!(params_.separation_deg >= 0.0 && params_.separation_deg <= 45.0)) {
     throw std::invalid_argument("berry: separation_deg " + std::to_string(params_.separation_deg) +
                                 " must be in [0, 45] (observed neutral points lie 10°–30° from the sun)");
+  }
+  if (params_.normalisation != BerryNormalisation::split_rayleigh &&
+      params_.normalisation != BerryNormalisation::opensky) {
+    throw std::invalid_argument("berry: unknown normalisation (expected split_rayleigh or opensky)");
   }
 }
 
@@ -61,7 +80,10 @@ Stokes BerrySky::stokes(const Eigen::Vector3d& d, const Eigen::Vector3d& e0, con
   const double c = d.dot(sun.direction);
   const double s0 = 1.0 + c * c;
   const double x1 = p1.dot(e0), y1 = p1.dot(e90), x2 = p2.dot(e0), y2 = p2.dot(e90);
-  const double k = -s0 * params_.max_dolp / (1.0 + d.dot(p1) * d.dot(p2));
+  const double norm = params_.normalisation == BerryNormalisation::opensky
+                          ? 2.0 - std::sqrt((x1 * x1 + y1 * y1) * (x2 * x2 + y2 * y2))
+                          : 1.0 + d.dot(p1) * d.dot(p2);
+  const double k = -s0 * params_.max_dolp / norm;
   return {s0, k * (x1 * x2 - y1 * y2), k * (x1 * y2 + x2 * y1), 0.0};
 }
 
@@ -71,6 +93,7 @@ void BerrySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<S
   const auto [p1d, p2d] = neutral_points(sun);
   const Eigen::Vector3f s = sun.direction.cast<float>(), p = p1d.cast<float>(), q = p2d.cast<float>();
   const float pm = static_cast<float>(params_.max_dolp);
+  const bool opensky = params_.normalisation == BerryNormalisation::opensky;
   detail::for_each_ray_block(rays, [&](const detail::RayBlock& b) {
     StokesF* __restrict o = out.data() + b.first;
     for (std::size_t j = 0; j < b.count; ++j) {
@@ -85,7 +108,9 @@ void BerrySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<S
       const float x1 = p.x() * ux + p.y() * uy + p.z() * uz, y1 = p.x() * vx + p.y() * vy + p.z() * vz;
       const float x2 = q.x() * ux + q.y() * uy + q.z() * uz, y2 = q.x() * vx + q.y() * vy + q.z() * vz;
       const float s0 = 1.0f + c * c;
-      const float k = -s0 * pm / (1.0f + c1 * c2);
+      const float norm = opensky ? 2.0f - std::sqrt((x1 * x1 + y1 * y1) * (x2 * x2 + y2 * y2))
+                                 : 1.0f + c1 * c2;
+      const float k = -s0 * pm / norm;
       o[j].s0 = s0;
       o[j].s1 = k * (x1 * x2 - y1 * y2);
       o[j].s2 = k * (x1 * y2 + x2 * y1);

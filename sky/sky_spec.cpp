@@ -45,6 +45,10 @@ void validate(const SkySpec& s) {
   if (s.intensity == "preetham") check_range("turbidity", s.turbidity, 2.0, 10.0, "Preetham's fit");
   if (!s.max_dolp_from_turbidity) check_range("max_dolp", s.max_dolp, 0.0, 1.0);
   check_range("separation_deg", s.separation_deg, 0.0, 45.0);
+  if (s.berry_normalisation != "split_rayleigh" && s.berry_normalisation != "opensky") {
+    bad("berry_normalisation",
+        "\"" + s.berry_normalisation + "\" is unknown (expected split_rayleigh or opensky)");
+  }
   if (!(std::isfinite(s.sun_disc_radiance) && s.sun_disc_radiance >= 0.0)) {
     bad("sun_disc_radiance", num(s.sun_disc_radiance) + " must be ≥ 0");
   }
@@ -67,7 +71,8 @@ std::unique_ptr<SkyModel> make_sky(const SkySpec& spec) {
   const double pmax = effective_max_dolp(spec);
   std::unique_ptr<SkyModel> sky;
   if (spec.model == "berry") {
-    sky = std::make_unique<BerrySky>(BerryParams{pmax, spec.separation_deg});
+    sky = std::make_unique<BerrySky>(
+        BerryParams{pmax, spec.separation_deg, parse_berry_normalisation(spec.berry_normalisation)});
   } else {
     sky = std::make_unique<RayleighSky>(RayleighParams{pmax});
   }

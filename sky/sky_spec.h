@@ -17,6 +17,7 @@ struct SkySpec {
   double max_dolp = 1.0;                  // Pmax ∈ [0, 1]
   bool max_dolp_from_turbidity = false;   // true: Pmax = exp(−(T − 0.6)/4) (depolarization.h)
   double separation_deg = 20.0;           // berry: neutral points' distance from the sun, [0, 45]
+  std::string berry_normalisation = "split_rayleigh";  // berry: |w| → DoLP, "split_rayleigh" | "opensky" (berry.h)
   std::string intensity = "rayleigh";     // radiance: "uniform" | "rayleigh" | "preetham"
   double turbidity = 3.0;                 // ≥ 1; preetham needs [2, 10]
   bool sun_disc = false;                  // add the sun's disc (radius 0.2666°)

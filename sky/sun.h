@@ -3,6 +3,9 @@
 // angle that the SkyPole analysis is written in.
 #pragma once
 
+#include <optional>
+#include <string_view>
+
 #include <Eigen/Core>
 
 #include "sky/time.h"
@@ -18,15 +21,34 @@ struct Site {
 
 // Refraction and the Earth-orientation inputs. pressure_hpa = 0 means no refraction (the
 // geometric, airless position), which is what skypol's sky models use by default. With pressure,
-// ERFA's refraction (eraRefco: A·tan z + B·tan³ z) is good to ~1″ above 15° elevation, degrades
-// towards the horizon and is capped below ~3° (finite, not accurate, for a sun at or under it).
-// ΔT is not an input: ERFA forms TT from UTC with its leap-second table; UT1 = UTC + ut1_minus_utc_s.
+// the refraction model is one of two (docs/conventions.md, "Sun position"):
+//   spa  (default) NREL SPA's (Reda & Andreas 2008, NREL/TP-560-34302, eq. 42):
+//        Δe = (P/1010)(283/(273 + T))·1.02/(60·tan(e0 + 10.3/(e0 + 5.11))) degrees, e0 the
+//        airless topocentric elevation in degrees, applied only while e0 ≥ −(0.26667° + 0.5667°)
+//        (SPA's sun radius plus its atmos_refract; below that SPA refracts nothing). Humidity and
+//        wavelength are not used. skypol then agrees with SPA's own outputs to < 0.0005° wherever
+//        SPA refracts, the horizon included (tests/sky/sun_test.cpp).
+//   erfa ERFA's eraRefco/eraAtioq, A·tan z + B·tan³ z from pressure, temperature, humidity and
+//        wavelength: good to ~1″ above 15° elevation, degrades towards the horizon and is capped
+//        below ~3° (finite, not accurate, for a sun at or under it). It refracts ~5 % less than
+//        SPA's formula at 60° zenith (0.0013° at Auckland, 2010-06-15 00:30 UTC).
+// Time scales: UT1 = UTC + ut1_minus_utc_s. TT = UT1 + delta_t_s when delta_t_s is given (SPA's
+// ΔT input, to reproduce a published SPA case exactly); otherwise ERFA forms TT from UTC with its
+// leap-second table (TT = UTC + ΔAT + 32.184 s), the better choice for the years it covers.
+enum class Refraction { spa, erfa };
+
+// "spa" | "erfa"; throws std::invalid_argument listing the legal names.
+Refraction parse_refraction(std::string_view name);
+std::string_view refraction_name(Refraction r);
+
 struct SunOptions {
   double pressure_hpa = 0;
   double temperature_c = 15;
-  double relative_humidity = 0.5;
-  double wavelength_um = 0.55;
+  double relative_humidity = 0.5;  // erfa refraction only
+  double wavelength_um = 0.55;     // erfa refraction only
   double ut1_minus_utc_s = 0;  // |UT1−UTC| < 0.9 s; 0 unless a user supplies IERS values
+  Refraction refraction = Refraction::spa;
+  std::optional<double> delta_t_s;  // ΔT = TT − UT1 in seconds, |ΔT| ≤ 8000 (SPA's range)
 };
 
 // Radians inside (degrees only at the interfaces a person sees).
@@ -44,7 +66,8 @@ struct Sun {
 };
 
 // Throws std::invalid_argument for a latitude outside [−90°, 90°], a non-finite input, or options
-// out of range (pressure < 0, humidity outside [0, 1], wavelength ≤ 0, |UT1−UTC| ≥ 1 s).
+// out of range (pressure < 0, humidity outside [0, 1], wavelength ≤ 0, |UT1−UTC| ≥ 1 s,
+// |ΔT| > 8000 s).
 // At a pole the azimuth follows ERFA's rule: "north" is the limit along the site's meridian.
 Sun sun_position(const Site& site, Instant t, const SunOptions& options = {});
 

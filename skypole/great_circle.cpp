@@ -409,18 +409,28 @@ GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCi
   if ((sky.level_from_camera * axis).z() < 0) axis = -axis;  // the end above the horizon
   Eigen::Vector3d ncp;
   std::string source;
+  double vote = 0, total = 0;
+  for (std::size_t k = 0; k < normals.size(); ++k) {
+    if (fit.weight[k] <= 0) continue;
+    const CirclePair& c = circles[index[k]];
+    const double v = c.radial_normal.cross(c.plane_normal).dot(axis);
+    vote += fit.weight[k] * v;
+    total += fit.weight[k] * std::abs(v);
+  }
   if (params.input.hemisphere != Hemisphere::automatic) {
-    ncp = params.input.hemisphere == Hemisphere::north ? axis : Eigen::Vector3d(-axis);
+    // A hint decides unless the pairs contradict it decisively (the rule of decide_hemisphere in
+    // sky_images.cpp; skypole/README.md, "North or south"): then the data win, and say so.
+    const bool hint_north = params.input.hemisphere == Hemisphere::north;
+    bool north = hint_north;
     source = "hint";
-  } else {
-    double vote = 0, total = 0;
-    for (std::size_t k = 0; k < normals.size(); ++k) {
-      if (fit.weight[k] <= 0) continue;
-      const CirclePair& c = circles[index[k]];
-      const double v = c.radial_normal.cross(c.plane_normal).dot(axis);
-      vote += fit.weight[k] * v;
-      total += fit.weight[k] * std::abs(v);
+    if (total > 0 && std::abs(vote) >= 0.6 * total && (vote < 0) != hint_north) {
+      north = vote < 0;
+      source = std::string("sun rotation, overriding the hint: hemisphere = ") +
+               (hint_north ? "north" : "south") +
+               " was given, but the sun's rotation is decisive and says " + (north ? "north" : "south");
     }
+    ncp = north ? axis : Eigen::Vector3d(-axis);
+  } else {
     if (!(total > 0) || std::abs(vote) < 0.3 * total)
       return fail("cannot tell north from south: the pairs disagree on the sense of the sky's "
                   "rotation; pass hemisphere = north or south");

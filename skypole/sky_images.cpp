@@ -19,6 +19,10 @@ namespace skypol::skypole {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+// North or south (skypole/README.md): a pole estimated within this of the horizon is the equator's
+// and reported north; a hint loses to a sun-rotation vote at least this one-sided (|Σ| ≥ k·Σ|·|).
+constexpr double kEquatorBandDeg = 0.1;
+constexpr double kDecisiveVote = 0.6;
 
 std::string channel_list(const stack::Frame& f) {
   std::string s;
@@ -275,41 +279,68 @@ std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
   return suns;
 }
 
-HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
-                                     const Eigen::Vector3d& axis_camera, Hemisphere hint) {
-  HemisphereDecision d;
-  if (hint != Hemisphere::automatic) {
-    // The axis is the end above the horizon (see the header): the NCP for a northern observer.
-    d.ok = true;
-    d.is_north = hint == Hemisphere::north;
-    d.source = "hint";
-    return d;
-  }
-  // Over all pairs of frames with a sun (i earlier than j): long baselines dominate, so noise in
-  // the individual sun positions averages out.
+namespace {
+
+// The sun-rotation vote over all pairs of frames with a sun (i earlier than j): long baselines
+// dominate, so noise in the individual sun positions averages out. vote < 0: the axis is the NCP.
+struct RotationVote {
   double vote = 0, total = 0;
   int used = 0;
+};
+
+RotationVote rotation_vote(const std::vector<std::optional<Eigen::Vector3d>>& suns,
+                           const Eigen::Vector3d& axis_camera) {
+  RotationVote v;
   for (std::size_t i = 0; i < suns.size(); ++i)
     for (std::size_t j = i + 1; j < suns.size(); ++j) {
       if (!suns[i] || !suns[j]) continue;
       const Eigen::Vector3d c = suns[i]->cross(*suns[j]);
-      vote += c.dot(axis_camera);
-      total += c.norm();
-      ++used;
+      v.vote += c.dot(axis_camera);
+      v.total += c.norm();
+      ++v.used;
     }
+  return v;
+}
+
+std::string hint_against_data(bool hint_north, bool data_north) {
+  return std::string("sun rotation, overriding the hint: hemisphere = ") +
+         (hint_north ? "north" : "south") + " was given, but the sun's rotation is decisive and says " +
+         (data_north ? "north" : "south");
+}
+
+}  // namespace
+
+HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
+                                     const Eigen::Vector3d& axis_camera, Hemisphere hint) {
+  HemisphereDecision d;
+  const RotationVote v = rotation_vote(suns, axis_camera);
+  const bool seen = v.used > 0 && v.total >= std::sin(0.5 * kDeg);
+  if (hint != Hemisphere::automatic) {
+    // The axis is the end above the horizon (see the header): the NCP for a northern observer.
+    // A hint decides unless the data contradict it decisively (skypole/README.md, "North or
+    // south"): then the data win and the source says so.
+    d.ok = true;
+    d.is_north = hint == Hemisphere::north;
+    d.source = "hint";
+    if (seen && std::abs(v.vote) >= kDecisiveVote * v.total && (v.vote < 0) != d.is_north) {
+      d.source = hint_against_data(d.is_north, v.vote < 0);
+      d.is_north = v.vote < 0;
+    }
+    return d;
+  }
   d.source = "sun rotation";
-  if (used == 0) {
+  if (v.used == 0) {
     d.why = "cannot tell north from south: the sun (lowest DoLP above the horizon) is in view in "
             "fewer than two frames; pass hemisphere = north or south";
     return d;
   }
-  if (total < std::sin(0.5 * kDeg) || std::abs(vote) < 0.3 * total) {
+  if (!seen || std::abs(v.vote) < 0.3 * v.total) {
     d.why = "cannot tell north from south: the sun's motion between the frames is too small or "
             "inconsistent to give the sense of rotation; pass hemisphere = north or south";
     return d;
   }
   d.ok = true;
-  d.is_north = vote < 0;
+  d.is_north = v.vote < 0;
   return d;
 }
 
@@ -320,7 +351,11 @@ PoleEstimate make_estimate(std::string method, const SkyImages& sky,
   e.valid = true;
   const Eigen::Vector3d ncp = ncp_camera.normalized();
   const Eigen::Vector3d ncp_level = sky.level_from_camera * ncp;
-  e.is_north = ncp_level.z() >= 0;  // at the equator exactly, north (as scene::Truth does)
+  // The equator rule (docs/conventions.md): north unless the estimate puts the NCP more than
+  // kEquatorBandDeg below the horizon. An estimator cannot tell latitude 0 from ±0.001°, so an
+  // observer on the equator is reported north (the NCP, possibly a hair below the horizon, with
+  // its latitude as measured) rather than flipping to south on the estimate's noise.
+  e.is_north = ncp_level.z() >= -std::sin(kEquatorBandDeg * kDeg);
   e.pole_camera = e.is_north ? ncp : Eigen::Vector3d(-ncp);
   e.pole_level = sky.level_from_camera * e.pole_camera;
   const Eigen::Vector3d& p = e.pole_level;

@@ -1,6 +1,7 @@
 // Presets: the numbers the papers' set-ups imply, checked from the cited figures.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <numbers>
 
 #include "camera/intrinsics.h"
@@ -19,10 +20,28 @@ TEST_CASE("SkyPole's Fujinon 1.8 mm on the IMX250: f = 521.739 px, 185° circle 
   CHECK(c.full_circle_fov_deg == Approx(185));
 }
 
-TEST_CASE("Sun et al.'s Sigma 8 mm: 140° effective, equidistant", "[presets]") {
+TEST_CASE("Sigma 8 mm F3.5 circular fisheye: equisolid (lensfun), 9.177 mm image height at 70 deg", "[presets]") {
   const auto& p = lens_preset("sigma_8mm_f3.5");
+  CHECK(p.model == "equisolid");  // lensfun data/db/slr-sigma.xml: <type>equisolid</type>
+  CHECK(p.focal_mm == 8.0);
+  CHECK(p.fov_deg == 180);
+  // Image height at 70° off-axis, r = 2f sin(θ/2) = 16 mm · sin 35° = 9.1772 mm; the equidistant
+  // model the preset used to be gives f·θ = 9.7738 mm there, 0.6 mm (173 px of 3.45 µm) further out.
+  const SensorPreset& sensor = sensor_preset("sony_imx250mzr");
+  const auto lens = make_lens(lens_spec(p, sensor));
+  const double theta = 70 * std::numbers::pi / 180;
+  const auto px = lens->project({std::sin(theta), 0.0, std::cos(theta)});
+  REQUIRE(px.has_value());
+  const double r_mm = (px->x() - lens->intrinsics().cx) * sensor.pitch_um * 1e-3;
+  CHECK(r_mm == Approx(9.1772).margin(1e-4));
+  CHECK(lens->max_field_angle() == Approx(90 * std::numbers::pi / 180));
+}
+
+TEST_CASE("Sun et al. 2019's model of that lens keeps its own name: equidistant, 140 deg", "[presets]") {
+  const auto& p = lens_preset("sun2019_sigma_8mm_equidistant_140");
   CHECK(p.fov_deg == 140);
   CHECK(p.model == "equidistant");
+  CHECK(p.focal_mm == 8.0);
   CHECK(make_lens(lens_spec(p, sensor_preset("sony_imx250mzr")))->max_field_angle() ==
         Approx(70 * std::numbers::pi / 180));
 }

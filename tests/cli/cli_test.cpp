@@ -2,6 +2,9 @@
 // output after an error, and the end-to-end path scene → stack → estimate on a small scene.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <string>
+
 #include "cli/cli_harness.h"
 
 using skypol::test::Result;
@@ -93,4 +96,34 @@ TEST_CASE("sun prints ERFA's sun for a site and instant", "[cli]") {
   const Result bad = run("sun --lat 95 --lon 0 -t 2022-09-23T12:00:00Z");
   CHECK(bad.code == 2);
   CHECK_THAT(bad.out, Catch::Contains("latitude"));
+}
+
+TEST_CASE("sun reproduces NREL SPA's worked example from SPA's own inputs", "[cli][spa]") {
+  // Reda & Andreas (NREL/TP-560-34302): 2003-10-17 12:30:30 local time −7 h, 39.742476 N,
+  // 105.1786 W, 1830.14 m, 820 hPa, 11 °C, ΔT 67 s, ΔUT1 0 → zenith 50.11162°, azimuth 194.34024°.
+  const std::string golden = "sun --lat 39.742476 --lon -105.1786 --height 1830.14 -t 2003-10-17T12:30:30-07:00 "
+                             "--pressure 820 --temperature 11 --dut1 0";
+  const std::string spa = golden + " --delta-t 67";
+  const auto number_after = [](const std::string& out, const std::string& key) {
+    return std::stod(out.substr(out.find(key) + key.size()));
+  };
+  const Result r = run(spa);
+  REQUIRE(r.code == 0);
+  CHECK_THAT(r.out, Catch::Contains("(refracted, spa)"));
+  CHECK(number_after(r.out, "zenith angle") == Approx(50.11162).margin(5e-4));
+  CHECK(number_after(r.out, "azimuth") == Approx(194.34024).margin(5e-4));
+
+  // ERFA's refraction, selectable, with the inputs only it uses.
+  const Result e = run(spa + " --refraction erfa --humidity 0 --wavelength 0.55");
+  REQUIRE(e.code == 0);
+  CHECK_THAT(e.out, Catch::Contains("(refracted, erfa)"));
+  CHECK(number_after(e.out, "zenith angle") == Approx(50.11162).margin(1e-3));
+  CHECK(std::abs(number_after(e.out, "zenith angle") - number_after(r.out, "zenith angle")) > 5e-4);
+
+  const Result bad = run(spa + " --refraction bennett");
+  CHECK(bad.code != 0);
+  CHECK_THAT(bad.out, Catch::Contains("spa") && Catch::Contains("erfa"));
+  const Result far = run(golden + " --delta-t 9000");
+  CHECK(far.code != 0);
+  CHECK_THAT(far.out, Catch::Contains("ΔT"));
 }

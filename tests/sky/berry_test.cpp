@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <random>
 #include <vector>
 
@@ -138,6 +139,84 @@ TEST_CASE("berry hard cases: sun at the zenith and below the horizon are finite"
       }
     }
   }
+}
+
+namespace {
+// BDL's eq. 4.2 evaluated as printed, in the stereographic plane (independent of berry.cpp's
+// vector form): ζ = tan(θ/2) e^{iφ} (θ zenith angle, φ azimuth), the sun's pair at ζ± on the
+// solar vertical, their antipodes −1/ζ±*, and
+//   w = −4 (ζ − ζ+)(ζ − ζ−)(ζ + 1/ζ+*)(ζ + 1/ζ−*) / ((1 + |ζ|²)² |ζ+ + 1/ζ+*| |ζ− + 1/ζ−*|),
+// normalised to max |w| = 1. Returns |w|.
+double bdl_w_modulus(const Eigen::Vector3d& d, double sun_zenith, double sun_azimuth, double delta) {
+  using C = std::complex<double>;
+  const auto zeta = [](double zenith, double azimuth) { return std::tan(zenith / 2) * std::polar(1.0, azimuth); };
+  const C z = zeta(std::acos(std::clamp(d.z(), -1.0, 1.0)), std::atan2(d.x(), d.y()));
+  const C zp = zeta(sun_zenith - delta, sun_azimuth), zm = zeta(sun_zenith + delta, sun_azimuth);
+  const C ap = -1.0 / std::conj(zp), am = -1.0 / std::conj(zm);
+  const C w = -4.0 * (z - zp) * (z - zm) * (z - ap) * (z - am) /
+              (std::pow(1.0 + std::norm(z), 2) * std::abs(zp - ap) * std::abs(zm - am));
+  return std::abs(w);
+}
+}  // namespace
+
+TEST_CASE("BDL eq. 4.2's |w| is sin g1 sin g2; each normalisation turns it into its degree", "[berry]") {
+  // Sun 30° from the zenith at azimuth 40°, each neutral point 15° from it (a pair 30° apart).
+  const double sun_zenith = 30 * kDeg, sun_az = 40 * kDeg, delta = 15 * kDeg;
+  const Sun sun = sun_at(40, 60);
+  const BerrySky split({1.0, 15.0});
+  const BerrySky opensky({1.0, 15.0, BerryNormalisation::opensky});
+  const auto [p1, p2] = split.neutral_points(sun);
+  std::mt19937_64 rng(9);
+  double largest_difference = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Eigen::Vector3d d = random_unit(rng);
+    if (d.z() < 0.05) d.z() = -d.z() + 0.05;  // the upper sky, where ζ is finite and well scaled
+    d.normalize();
+    const double w = bdl_w_modulus(d, sun_zenith, sun_az, delta);
+    const double g1 = std::acos(std::clamp(d.dot(p1), -1.0, 1.0)), g2 = std::acos(std::clamp(d.dot(p2), -1.0, 1.0));
+    INFO("d = " << d.transpose());
+    CHECK(w == Approx(std::sin(g1) * std::sin(g2)).margin(1e-9));
+    const Eigen::Vector3d e0 = perpendicular(d);
+    const double a = split.stokes(d, e0, sun).dolp(), b = opensky.stokes(d, e0, sun).dolp();
+    CHECK(a == Approx(w / (1 + std::cos(g1) * std::cos(g2))).margin(1e-9));
+    CHECK(b == Approx(w / (2 - w)).margin(1e-9));
+    CHECK(split.stokes(d, e0, sun).aolp() == Approx(opensky.stokes(d, e0, sun).aolp()).margin(1e-9));
+    largest_difference = std::max(largest_difference, std::abs(a - b));
+  }
+  CHECK(largest_difference > 0.05);  // they do differ (up to 0.126 over the whole sphere)
+
+  // One value by hand: sun at the zenith, δ = 15°, a direction 45° from the zenith in the plane
+  // of the pair: γ1 = 30°, γ2 = 60°, |w| = sin 30° sin 60° = 0.4330127.
+  const Sun overhead = sun_at(0, 90);
+  const Eigen::Vector3d d = enu_direction(0, 45 * kDeg);
+  CHECK(bdl_w_modulus(d, 0, 0, delta) == Approx(0.4330127).margin(1e-7));
+  CHECK(split.stokes(d, perpendicular(d), overhead).dolp() == Approx(0.4330127 / (1 + std::cos(30 * kDeg) * 0.5)).margin(1e-7));
+  CHECK(opensky.stokes(d, perpendicular(d), overhead).dolp() == Approx(0.4330127 / (2 - 0.4330127)).margin(1e-7));
+}
+
+TEST_CASE("opensky normalisation: Rayleigh at zero separation, batch = scalar, bounded", "[berry]") {
+  std::mt19937_64 rng(33);
+  const BerrySky zero({0.8, 0.0, BerryNormalisation::opensky});
+  const RayleighSky rayleigh({0.8});
+  const BerrySky berry({0.8, 25.0, BerryNormalisation::opensky});
+  const Sun sun = sun_at(120, 20);
+  std::vector<ViewRay> rays;
+  for (int i = 0; i < 2000; ++i) {
+    const Eigen::Vector3d d = random_unit(rng);
+    const Eigen::Vector3d e0 = random_perpendicular(d, rng);
+    const Stokes b = zero.stokes(d, e0, sun), r = rayleigh.stokes(d, e0, sun);
+    CHECK(std::abs(b.s1 - r.s1) < 1e-9);
+    CHECK(std::abs(b.s2 - r.s2) < 1e-9);
+    CHECK(berry.stokes(d, e0, sun).dolp() <= 0.8 + 1e-12);
+    rays.push_back({d.cast<float>(), e0.cast<float>()});
+  }
+  for (const auto& [batch, scalar] : batch_and_scalar(berry, rays, sun)) {
+    CHECK(batch.s1 == Approx(scalar.s1).margin(2e-6));
+    CHECK(batch.s2 == Approx(scalar.s2).margin(2e-6));
+  }
+  CHECK(parse_berry_normalisation("opensky") == BerryNormalisation::opensky);
+  CHECK(berry_normalisation_name(BerryNormalisation::split_rayleigh) == "split_rayleigh");
+  CHECK_THROWS_WITH(parse_berry_normalisation("bdl"), Catch::Contains("split_rayleigh") && Catch::Contains("opensky"));
 }
 
 TEST_CASE("berry parameters out of range are refused", "[berry][bad-input]") {

@@ -229,3 +229,22 @@ TEST_CASE("batch throughput of every configuration (informational)", "[.][benchm
   }
   CHECK(out[0].s0 > 0);
 }
+
+TEST_CASE("berry_normalisation: chosen by name, refused by name when unknown", "[sky_spec][berry]") {
+  SkySpec s;
+  s.model = "berry";
+  s.separation_deg = 15;
+  CHECK(error_of(s).empty());  // split_rayleigh, the default
+  s.berry_normalisation = "opensky";
+  CHECK(error_of(s).empty());
+  const std::unique_ptr<SkyModel> sky = make_sky(s);
+  const auto* berry = dynamic_cast<const BerrySky*>(sky.get());
+  REQUIRE(berry != nullptr);
+  CHECK(berry->params().normalisation == BerryNormalisation::opensky);
+  s.berry_normalisation = "bdl";
+  const std::string e = error_of(s);
+  CHECK(e.rfind("sky.berry_normalisation: ", 0) == 0);
+  CHECK(e.find("\"bdl\"") != std::string::npos);
+  CHECK(e.find("split_rayleigh") != std::string::npos);
+  CHECK(e.find("opensky") != std::string::npos);
+}

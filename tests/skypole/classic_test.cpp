@@ -2,7 +2,11 @@
 // (Marseille roof, 2022-09-23, every 30 min 08:00–16:00 UTC, zenith fisheye), and its failures.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <utility>
+#include <vector>
 #include <iostream>
 
 #include "skypole/classic.h"
@@ -161,4 +165,48 @@ TEST_CASE("classic SkyPole's noise floor keeps sensor noise out of the binary im
                               : std::nan(""))
             << "°\n";
   CHECK(with_floor < 1.0);
+}
+
+// Regression: interval pairing once quietly became consecutive pairs and every test still passed
+// (they checked only the final accuracy, and the pair count in consecutive mode). Pin the pairs
+// themselves, and that the difference images are those of the paired frames.
+TEST_CASE("interval pairing takes frame i with frame i + interval, and classic differences exactly those", "[skypole][classic][pairs]") {
+  using Pairs = std::vector<std::pair<int, int>>;
+  CHECK(skypole::make_pairs(7, skypole::PairMode::interval, 2) == Pairs{{0, 2}, {1, 3}, {2, 4}, {3, 5}, {4, 6}});
+  CHECK(skypole::make_pairs(7, skypole::PairMode::interval, 3) == Pairs{{0, 3}, {1, 4}, {2, 5}, {3, 6}});
+  CHECK(skypole::make_pairs(7, skypole::PairMode::interval, 6) == Pairs{{0, 6}});
+  CHECK(skypole::make_pairs(7, skypole::PairMode::interval, 7).empty());
+  CHECK(skypole::make_pairs(4, skypole::PairMode::consecutive, 3) == Pairs{{0, 1}, {1, 2}, {2, 3}});
+  CHECK(skypole::make_pairs(4, skypole::PairMode::interval, 1) == Pairs{{0, 1}, {1, 2}, {2, 3}});
+  CHECK(skypole::make_pairs(4, skypole::PairMode::all, 2) == Pairs{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}});
+  CHECK_THROWS_AS(skypole::make_pairs(4, skypole::PairMode::interval, 0), std::invalid_argument);
+
+  testing::SyntheticSpec spec = paper_spec(20);
+  spec.times = testing::times_every("2022-09-23T08:00:00Z", "2022-09-23T11:00:00Z", 30);  // 7 frames
+  spec.size = 128;
+  const render::Stack stack = testing::make_stack(spec);
+  skypole::ClassicParams p;
+  p.pairs = skypole::PairMode::interval;
+  p.interval = 2;
+  p.keep_intermediates = true;
+  const skypole::ClassicResult r = skypole::estimate_classic(stack, p);
+  REQUIRE(r.images.pairs == Pairs{{0, 2}, {1, 3}, {2, 4}, {3, 5}, {4, 6}});
+  REQUIRE(r.images.differences.size() == 5);
+  for (std::size_t k = 0; k < r.images.pairs.size(); ++k) {
+    const auto& fa = r.images.filtered[static_cast<std::size_t>(r.images.pairs[k].first)];
+    const auto& fb = r.images.filtered[static_cast<std::size_t>(r.images.pairs[k].second)];
+    const auto& fc = r.images.filtered[k + 1];  // what a consecutive pairing would have used
+    double off = 0, consecutive = 0;
+    for (std::size_t i = 0; i < fa.size(); ++i) {
+      off = std::max(off, static_cast<double>(std::abs(r.images.differences[k][i] - std::abs(fa[i] - fb[i]))));
+      consecutive = std::max(consecutive, static_cast<double>(std::abs(fa[i] - fc[i])));
+    }
+    INFO("pair " << k);
+    CHECK(off == 0.0);
+    // The interval-2 difference is about twice the consecutive one here (the sun moves ~7° per
+    // 30 min), so a pairing off by one shows in the images themselves.
+    double biggest = 0;
+    for (float v : r.images.differences[k]) biggest = std::max(biggest, static_cast<double>(v));
+    CHECK(biggest > 1.3 * consecutive);
+  }
 }

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -143,4 +145,73 @@ TEST_CASE("option names round-trip and bad names list the legal ones", "[skypole
   CHECK_THROWS_WITH(parse_hemisphere("west"),
                     "unknown hemisphere \"west\" (expected one of automatic, north, south)");
   CHECK_THROWS_WITH(parse_sun_source("auto"), Catch::Contains("expected one of aolp, dolp"));
+}
+
+// docs/conventions.md, "Celestial pole and hemisphere": north at latitude ≥ 0, and at the equator
+// north is chosen. An estimate cannot tell latitude 0 from −0.001°, so an NCP estimated within
+// 0.1° below the horizon is still reported as the north pole (with its latitude as measured); only
+// further south does the report switch to the south pole.
+TEST_CASE("the equator rule: an NCP a hair below the horizon is reported north", "[skypole][hemisphere]") {
+  const render::Stack stack = tiny_stack(0.0, 30.0, 0, 0);
+  const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
+  const render::Truth& t = stack.frames.front().truth;
+  for (double lat : {0.0, -0.001, -0.05, 0.001}) {
+    const Eigen::Vector3d ncp_cam =
+        t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
+    const skypole::PoleEstimate e = skypole::make_estimate("test", sky, ncp_cam, {});
+    INFO("NCP altitude " << lat);
+    CHECK(e.is_north);
+    CHECK(e.latitude_deg == Approx(lat).margin(1e-9));
+    CHECK(skypole::wrap180(*e.heading_deg - 30.0) == Approx(0).margin(1e-9));
+    CHECK(skypole::score(e, t).angular_error_deg == Approx(std::abs(lat)).margin(1e-6));
+  }
+  for (double lat : {-0.2, -1.0}) {  // beyond the band: the south pole, as before
+    const Eigen::Vector3d ncp_cam =
+        t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
+    const skypole::PoleEstimate e = skypole::make_estimate("test", sky, ncp_cam, {});
+    INFO("NCP altitude " << lat);
+    CHECK_FALSE(e.is_north);
+    CHECK(e.latitude_deg == Approx(lat).margin(1e-9));
+    CHECK(skypole::wrap180(*e.heading_deg - 30.0) == Approx(0).margin(1e-9));
+  }
+}
+
+// skypole/README.md, "North or south": a hint decides when the data cannot, and loses (with a note
+// saying so) when the sun's rotation contradicts it decisively.
+TEST_CASE("decide_hemisphere: the data win over a contradicting hint only when decisive", "[skypole][hemisphere]") {
+  // Suns turning about +z as the sky does about the NCP: (s1 × s2)·NCP < 0 (estimate.h).
+  const auto suns_every = [](double step_deg) {
+    std::vector<std::optional<Eigen::Vector3d>> suns;
+    const double dec = 10 * kDeg;
+    for (int k = -4; k <= 4; ++k) {
+      const double w = k * step_deg * kDeg;
+      suns.emplace_back(Eigen::Vector3d(-std::cos(dec) * std::sin(w), -std::cos(dec) * std::cos(w), std::sin(dec)));
+    }
+    return suns;
+  };
+  const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  const auto day = suns_every(15);
+  const skypole::HemisphereDecision automatic = skypole::decide_hemisphere(day, axis, skypole::Hemisphere::automatic);
+  REQUIRE(automatic.ok);
+  CHECK(automatic.is_north);
+
+  const skypole::HemisphereDecision against = skypole::decide_hemisphere(day, axis, skypole::Hemisphere::south);
+  CHECK(against.ok);
+  CHECK(against.is_north);  // the data win
+  CHECK(against.source.find("overriding the hint") != std::string::npos);
+  CHECK(against.source.find("south") != std::string::npos);
+
+  const skypole::HemisphereDecision agreed = skypole::decide_hemisphere(day, axis, skypole::Hemisphere::north);
+  CHECK(agreed.is_north);
+  CHECK(agreed.source == "hint");
+
+  // No sun in view, or a sun that hardly moves: the hint decides.
+  const std::vector<std::optional<Eigen::Vector3d>> none(5);
+  const skypole::HemisphereDecision blind = skypole::decide_hemisphere(none, axis, skypole::Hemisphere::south);
+  CHECK(blind.ok);
+  CHECK_FALSE(blind.is_north);
+  CHECK(blind.source == "hint");
+  const skypole::HemisphereDecision still = skypole::decide_hemisphere(suns_every(0.001), axis, skypole::Hemisphere::south);
+  CHECK_FALSE(still.is_north);
+  CHECK(still.source == "hint");
 }
