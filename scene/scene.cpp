@@ -181,6 +181,9 @@ Scene scene_from_source(const SceneSource& source) {
     scene.sun_options.temperature_c = atm->number("temperature_c", 15, -90, 60);
     scene.sun_options.relative_humidity = atm->number("relative_humidity", 0.5, 0, 1);
     scene.sun_options.ut1_minus_utc_s = atm->number("ut1_minus_utc_s", 0, -0.9, 0.9);
+    scene.sun_options.refraction = sky::parse_refraction(
+        atm->choice("refraction", std::string(sky::refraction_name(sky::Refraction::spa)), {"spa", "erfa"}));
+    scene.sun_options.delta_t_s = atm->optional_number("delta_t_s", -8000, 8000);
     atm->finish();
   }
 

@@ -16,6 +16,10 @@ sky::SkySpec read_sky(Fields& f) {
   s.max_dolp = f.number("max_dolp", s.max_dolp, 0, 1);
   s.separation_deg = f.number("separation_deg", s.separation_deg, 0, 45);
   if (s.model != "berry" && f.has("separation_deg")) f.fail("separation_deg", "used only by model \"berry\"");
+  s.berry_normalisation = f.choice("berry_normalisation", s.berry_normalisation, {"split_rayleigh", "opensky"});
+  if (s.model != "berry" && f.has("berry_normalisation")) {
+    f.fail("berry_normalisation", "used only by model \"berry\"");
+  }
   s.intensity = f.choice("intensity", s.intensity, {"uniform", "rayleigh", "preetham"});
   s.turbidity = f.number("turbidity", s.turbidity, 1, 64);
   if (s.intensity == "preetham" && (s.turbidity < 2 || s.turbidity > 10)) {

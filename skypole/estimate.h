@@ -22,9 +22,10 @@
 // the sky's rotation: the sky turns about −NCP (the Earth turns about +NCP), so for sun directions
 // s1 at t1 < s2 at t2, (s1 × s2)·NCP < 0. The DoLP gives the sun only up to sign (DoLP(s) =
 // DoLP(−s)); skypole takes the end above the horizon (the daytime sun), and the sign would cancel
-// anyway if both were flipped. InputOptions::hemisphere = north/south overrides this decision
-// (the user knows the hemisphere); automatic fails with a clear reason if the sun's motion cannot be
-// seen (no sun-like DoLP minimum above the horizon, or frames too close in time).
+// anyway if both were flipped. InputOptions::hemisphere = north/south decides when the sun's
+// rotation cannot; a rotation that decisively contradicts the hint wins, and the estimate's note
+// says so (skypole/README.md, "North or south"). automatic fails with a clear reason if the sun's
+// motion cannot be seen (no sun-like DoLP minimum above the horizon, or frames too close in time).
 //
 // Failures. Input that no estimator can use (no camera, fewer frames than the method needs, a
 // frame without the DoLP channel, frames out of time order, image sizes that disagree) throws

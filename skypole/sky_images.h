@@ -74,13 +74,14 @@ std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
 struct HemisphereDecision {
   bool ok = false;
   bool is_north = true;     // the given axis direction is the NCP (true) or the SCP (false)
-  std::string source;       // "sun rotation" or "hint"
+  std::string source;       // "sun rotation", "hint", or "sun rotation, overriding the hint: …"
   std::string why;          // when !ok
 };
 
 // Is `axis_camera`, the end of the pole axis above the horizon, the NCP (rather than the SCP)?
-// From the hint when it is north/south, else from the sun's rotation: Σ (s_i × s_j)·axis < 0
-// over all pairs of frames i < j with a sun means NCP.
+// From the sun's rotation: Σ (s_i × s_j)·axis < 0 over all pairs of frames i < j with a sun means
+// NCP. A north/south hint decides when the rotation cannot; when the rotation contradicts the hint
+// decisively, the data win and `source` says so (skypole/README.md, "North or south").
 HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
                                      const Eigen::Vector3d& axis_camera, Hemisphere hint);
 

@@ -70,7 +70,9 @@ TEST_CASE("sun2019-hefei gives Sun et al. 2019 Table 1's sun elevations", "[scen
   const std::vector<double> table1{29.10, 46.24, 55.86, 47.17, 34.21, 17.43};
   const std::vector<double> ours = sun_elevations_deg(s);
   REQUIRE(ours.size() == table1.size());
-  for (std::size_t i = 0; i < ours.size(); ++i) CHECK(ours[i] == Approx(table1[i]).margin(0.01));
+  // The table rounds to 0.01°; the paper does not state the pressure, temperature or height its
+  // refraction used, which move the lowest sun (17:00) by ~0.005°: hence 0.015°, not 0.005°.
+  for (std::size_t i = 0; i < ours.size(); ++i) CHECK(ours[i] == Approx(table1[i]).margin(0.015));
   CHECK(sky::format_iso8601(s.times[0]) == "2018-03-26T00:30:00Z");
   // Their circular image holds N = 11 335 400 pixels: the 70° circle's radius is sqrt(N/π).
   const auto cam = scene::build_camera(s.camera);

@@ -184,7 +184,7 @@ TEST_CASE("interval pairing takes frame i with frame i + interval, and classic d
   testing::SyntheticSpec spec = paper_spec(20);
   spec.times = testing::times_every("2022-09-23T08:00:00Z", "2022-09-23T11:00:00Z", 30);  // 7 frames
   spec.size = 128;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   skypole::ClassicParams p;
   p.pairs = skypole::PairMode::interval;
   p.interval = 2;

@@ -152,9 +152,9 @@ TEST_CASE("option names round-trip and bad names list the legal ones", "[skypole
 // 0.1° below the horizon is still reported as the north pole (with its latitude as measured); only
 // further south does the report switch to the south pole.
 TEST_CASE("the equator rule: an NCP a hair below the horizon is reported north", "[skypole][hemisphere]") {
-  const render::Stack stack = tiny_stack(0.0, 30.0, 0, 0);
+  const stack::Stack stack = tiny_stack(0.0, 30.0, 0, 0);
   const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
-  const render::Truth& t = stack.frames.front().truth;
+  const scene::Truth& t = stack.frames.front().truth;
   for (double lat : {0.0, -0.001, -0.05, 0.001}) {
     const Eigen::Vector3d ncp_cam =
         t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kDeg), std::sin(lat * kDeg));

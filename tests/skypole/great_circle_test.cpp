@@ -131,7 +131,7 @@ TEST_CASE("great circles: a hint loses to decisive evidence, and too little inpu
 TEST_CASE("great_circle interval pairs are frames i and i + interval, by index and by content", "[skypole][great_circle][pairs]") {
   testing::SyntheticSpec spec = paper_spec(0);
   spec.times = testing::times_every("2022-09-23T08:00:00Z", "2022-09-23T12:00:00Z", 30);  // 9 frames
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   for (int interval : {2, 3}) {
     skypole::GreatCircleParams p;
     p.pairs = skypole::PairMode::interval;

@@ -107,7 +107,7 @@ TEST_CASE("sun_vector and sun_dolp on the equator report the north pole", "[skyp
     spec.heading_deg = heading;
     spec.times = testing::times_every("2022-06-21T06:00:00Z", "2022-06-21T16:00:00Z", 60);
     spec.size = 128;
-    const render::Stack stack = testing::make_stack(spec);
+    const stack::Stack stack = testing::make_stack(spec);
     for (skypole::SunSource source : {skypole::SunSource::aolp, skypole::SunSource::dolp}) {
       skypole::SunVectorParams p;
       p.source = source;
@@ -133,7 +133,7 @@ TEST_CASE("a wrong hemisphere hint loses to a decisive sun rotation in Singapore
   spec.heading_deg = 70;
   spec.times = testing::times_every("2022-09-23T00:00:00Z", "2022-09-23T08:00:00Z", 30);  // 08–16 local
   spec.size = 128;
-  const render::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(spec);
   for (skypole::SunSource source : {skypole::SunSource::aolp, skypole::SunSource::dolp}) {
     skypole::SunVectorParams p;
     p.source = source;
