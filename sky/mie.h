@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sky/atmosphere_optics.h"
+#include "sky/quadrature.h"  // gauss_legendre, used with this header's tables
 
 namespace skypol::sky {
 
@@ -100,8 +101,6 @@ MieEnsemble mie_ensemble_cross_sections(std::span<const MieComponent> mixture, d
 // The default truncation range of a LogNormal whose r_min/r_max are 0 (see LogNormal).
 LogNormal with_default_range(const LogNormal& size);
 
-// Gauss–Legendre nodes (ascending) and weights on [−1, 1] (Newton on Pₙ; |error| ~ 1e-15).
-void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights);
 
 // ½ Σ wᵢ F11ᵢ: how well a table's own quadrature integrates its phase function (1 if resolved).
 double quadrature_norm(const ScatteringMatrixTable& table);

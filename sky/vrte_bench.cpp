@@ -15,26 +15,6 @@ namespace skypol::sky::vrte {
 
 namespace {
 
-ScatteringMatrixTable synthetic_aerosol() {
-  std::vector<double> x, w;
-  gauss_legendre01(200, x, w);
-  ScatteringMatrixTable t;
-  const double g = 0.7;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double c = 2 * x[i] - 1;
-    const double f = (1 - g * g) / std::pow(1 + g * g - 2 * g * c, 1.5);
-    t.cos_theta.push_back(c);
-    t.weight.push_back(2 * w[i]);
-    t.f11.push_back(f);
-    t.f12.push_back(-0.2 * f * (1 - c * c) / (1 + c * c));
-    t.f22.push_back(0.95 * f);
-    t.f33.push_back(0.9 * f * c);
-    t.f34.push_back(0.05 * f * (1 - c * c));
-    t.f44.push_back(0.85 * f * c);
-  }
-  return t;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -81,7 +61,7 @@ BenchFigures bench(int threads, int rays) {
   b.rayleigh_terms = ray->terms();
   o.tau_aerosol = 0.2;
   o.aerosol_ssa = 0.95;
-  o.aerosol = synthetic_aerosol();
+  o.aerosol = synthetic_aerosol(0.7, 200, 0.2, 0.05);
   t0 = std::chrono::steady_clock::now();
   auto aer = std::make_shared<const VrteTable>(VrteTable::build(o, 0.1, opt));
   b.aerosol_build_s = seconds_since(t0);

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sky/vrte_solver.h"  // gauss_legendre01
+#include "sky/quadrature.h"
 
 namespace skypol::sky::vrte {
 
@@ -327,6 +327,25 @@ ExactLayer exact_layer(const LayerOptics& o) {
     e.aerosol_weight = e.aerosol.empty() ? 0.0 : o.aerosol_ssa * o.tau_aerosol / e.tau;
   }
   return e;
+}
+
+ScatteringMatrixTable synthetic_aerosol(double g, int nodes, double f12, double f34) {
+  std::vector<double> x, w;
+  gauss_legendre01(nodes, x, w);
+  ScatteringMatrixTable t;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double c = 2 * x[i] - 1;
+    const double f = (1 - g * g) / std::pow(1 + g * g - 2 * g * c, 1.5);
+    t.cos_theta.push_back(c);
+    t.weight.push_back(2 * w[i]);
+    t.f11.push_back(f);
+    t.f12.push_back(-f12 * f * (1 - c * c) / (1 + c * c));
+    t.f22.push_back(0.95 * f);
+    t.f33.push_back(0.9 * f * c);
+    t.f34.push_back(f34 * f * (1 - c * c));
+    t.f44.push_back(0.85 * f * c);
+  }
+  return t;
 }
 
 }  // namespace skypol::sky::vrte

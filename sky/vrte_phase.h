@@ -97,4 +97,10 @@ struct ExactLayer {
 };
 ExactLayer exact_layer(const LayerOptics& optics);
 
+// A made-up polarizing aerosol for tests and benchmarks, not a measured one: every element is
+// non-zero (F34 couples U and V). On `nodes` Gauss–Legendre nodes: F11 Henyey–Greenstein with
+// asymmetry g, F12 = −f12·F11·sin²Θ/(1+cos²Θ), F22 = 0.95·F11, F33 = 0.9·F11·cos Θ,
+// F34 = f34·F11·sin²Θ, F44 = 0.85·F11·cos Θ.
+ScatteringMatrixTable synthetic_aerosol(double g, int nodes, double f12, double f34);
+
 }  // namespace skypol::sky::vrte

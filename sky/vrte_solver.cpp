@@ -39,39 +39,6 @@
 
 namespace skypol::sky::vrte {
 
-void gauss_legendre01(int n, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(static_cast<std::size_t>(n), 0.0);
-  w.assign(static_cast<std::size_t>(n), 0.0);
-  for (int i = 0; i < n; ++i) {
-    // Newton on P_n from Tricomi's initial guess; then map [−1, 1] → [0, 1].
-    double z = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5));
-    double dp = 1.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1.0);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-16) break;
-    }
-    // Recompute the derivative at the converged root.
-    double p0 = 1.0, p1 = z;
-    for (int k = 2; k <= n; ++k) {
-      const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-      p0 = p1;
-      p1 = p2;
-    }
-    dp = n * (z * p1 - p0) / (z * z - 1.0);
-    const auto k = static_cast<std::size_t>(n - 1 - i);  // ascending
-    x[k] = 0.5 * (1.0 + z);
-    w[k] = 1.0 / ((1.0 - z * z) * dp * dp);  // 2/((1−z²)P'²) on [−1, 1], halved
-  }
-}
-
 namespace {
 
 using Eigen::MatrixXd;

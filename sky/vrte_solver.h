@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "sky/quadrature.h"  // gauss_legendre01
 #include "sky/vrte_phase.h"
 
 namespace skypol::sky::vrte {
@@ -79,7 +80,5 @@ StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, doub
 // The same with cos Δφ and sin Δφ given (a unit pair), as the per-pixel path has them.
 StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double cos_dphi, double sin_dphi, bool up);
 
-// Gauss–Legendre nodes and weights on (0, 1).
-void gauss_legendre01(int n, std::vector<double>& x, std::vector<double>& w);
 
 }  // namespace skypol::sky::vrte

@@ -198,7 +198,7 @@ TEST_CASE("Siewert 2000 problem IIA: a polarizing aerosol slab, reflected and tr
   o.tau_aerosol = 1.0;
   o.aerosol_ssa = 0.973527;
   std::vector<double> x, w;
-  skypol::sky::vrte::gauss_legendre01(48, x, w);
+  skypol::sky::gauss_legendre01(48, x, w);
   for (std::size_t i = 0; i < x.size(); ++i) {
     const double c = 2 * x[i] - 1;
     const auto d = skypol::sky::vrte::wigner_rows(c, 11);

@@ -17,25 +17,6 @@ using namespace skypol::sky::vrte;
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-// A made-up aerosol with every element non-zero (F34 couples U and V), tabulated on Gauss nodes.
-ScatteringMatrixTable test_aerosol(double g) {
-  std::vector<double> x, w;
-  gauss_legendre01(120, x, w);
-  ScatteringMatrixTable t;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double c = 2 * x[i] - 1;
-    const double f = (1 - g * g) / std::pow(1 + g * g - 2 * g * c, 1.5);  // Henyey–Greenstein
-    t.cos_theta.push_back(c);
-    t.weight.push_back(2 * w[i]);
-    t.f11.push_back(f);
-    t.f12.push_back(-0.3 * f * (1 - c * c) / (1 + c * c));
-    t.f22.push_back(0.95 * f);
-    t.f33.push_back(0.9 * f * c);
-    t.f34.push_back(0.1 * f * (1 - c * c));
-    t.f44.push_back(0.85 * f * c);
-  }
-  return t;
-}
 
 double sum_i(const FourierSolution& s, bool up, std::size_t i, std::size_t j, double dphi, int k) {
   double r = 0;
@@ -92,7 +73,7 @@ TEST_CASE("A conservative layer over a black ground reflects and transmits all t
       o.depolarization = 0.03;
       o.tau_aerosol = tau / 2;
       o.aerosol_ssa = 1.0;
-      o.aerosol = test_aerosol(0.7);
+      o.aerosol = synthetic_aerosol(0.7, 120, 0.3, 0.1);
       SolverOptions opt;
       opt.keep_gauss_matrices = true;
       opt.initial_tau = initial_tau;
@@ -118,7 +99,7 @@ TEST_CASE("Reciprocity: R(mu, mu0)/mu0 = D R(mu0, mu)^T D / mu, and the same for
   o.depolarization = 0.03;
   o.tau_aerosol = 0.2;
   o.aerosol_ssa = 0.9;
-  o.aerosol = test_aerosol(0.6);
+  o.aerosol = synthetic_aerosol(0.6, 120, 0.3, 0.1);
   SolverOptions opt;
   opt.keep_gauss_matrices = true;
   for (double albedo : {0.0, 0.4}) {
@@ -153,7 +134,7 @@ TEST_CASE("The mirror-image doubling equals the full adding equations", "[vrte][
   o.tau_rayleigh = 0.2;
   o.tau_aerosol = 0.4;
   o.aerosol_ssa = 0.93;
-  o.aerosol = test_aerosol(0.75);
+  o.aerosol = synthetic_aerosol(0.75, 120, 0.3, 0.1);
   const std::vector<double> mu{0.0, 0.1, 0.5, 1.0};
   SolverOptions a, b;
   b.symmetric_doubling = false;

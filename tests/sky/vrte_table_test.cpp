@@ -22,25 +22,6 @@ namespace fs = std::filesystem;
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-ScatteringMatrixTable hg_aerosol(double g) {
-  std::vector<double> x, w;
-  gauss_legendre01(160, x, w);
-  ScatteringMatrixTable t;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double c = 2 * x[i] - 1;
-    const double f = (1 - g * g) / std::pow(1 + g * g - 2 * g * c, 1.5);
-    t.cos_theta.push_back(c);
-    t.weight.push_back(2 * w[i]);
-    t.f11.push_back(f);
-    t.f12.push_back(-0.2 * f * (1 - c * c) / (1 + c * c));
-    t.f22.push_back(0.95 * f);
-    t.f33.push_back(0.9 * f * c);
-    t.f34.push_back(0.05 * f * (1 - c * c));
-    t.f44.push_back(0.85 * f * c);
-  }
-  return t;
-}
-
 LayerOptics rayleigh(double tau) {
   LayerOptics o;
   o.tau_rayleigh = tau;
@@ -117,7 +98,7 @@ TEST_CASE("Table interpolation against direct solves off the grid, within the st
   LayerOptics o = rayleigh(0.1);
   o.tau_aerosol = 0.2;
   o.aerosol_ssa = 0.95;
-  o.aerosol = hg_aerosol(0.7);
+  o.aerosol = synthetic_aerosol(0.7, 160, 0.2, 0.05);
   check_bounds("rayleigh 0.1 + aerosol 0.2 (g 0.7)", interpolation_error(o, 0.1));
 }
 
@@ -173,7 +154,7 @@ TEST_CASE("Cache: named by every input, reused, written atomically, and validate
   names.push_back(VrteTable::cache_file_name(o2, 0.1, opt));
   o2 = o;
   o2.tau_aerosol = 0.1;
-  o2.aerosol = hg_aerosol(0.6);
+  o2.aerosol = synthetic_aerosol(0.6, 160, 0.2, 0.05);
   names.push_back(VrteTable::cache_file_name(o2, 0.1, opt));
   LayerOptics o3 = o2;
   o3.aerosol.f12[5] += 1e-9;
