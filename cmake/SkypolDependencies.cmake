@@ -7,6 +7,9 @@ find_package(OpenImageIO REQUIRED)
 find_package(tomlplusplus 3 REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(tinyobjloader REQUIRED)
+# Named time zones (Europe/Paris) from the system tz database: Howard Hinnant's date, built on
+# Debian with USE_OS_TZDB (reads /usr/share/zoneinfo, never the network).
+find_package(date REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(ERFA REQUIRED IMPORTED_TARGET erfa)
 

@@ -101,12 +101,18 @@ void append_range(Fields& t, sky::Instant t0, sky::Instant t1, double step_s, st
 // The third form: calendar dates × times of day in one zone, so that a sweep can vary the date
 // alone ("time.dates" = ...).
 void read_dates(Fields& t, const std::vector<std::string>& dates, std::vector<sky::Instant>& times) {
-  const std::string zone = t.required_string("zone");
-  if (zone.empty()) t.fail("zone", "expected Z or an offset such as +02:00");
+  const std::string zone_text = t.required_string("zone");
+  if (zone_text.empty()) t.fail("zone", "expected Z, an offset such as +02:00, or an IANA zone such as Europe/Paris");
+  // An offset follows the time as written; an IANA name goes in brackets (RFC 9557), so that each
+  // date gets the zone's own offset that day, daylight saving included.
+  const bool is_offset = zone_text == "Z" || zone_text.front() == '+' || zone_text.front() == '-';
+  const std::string zone = is_offset ? zone_text : "[" + zone_text + "]";
   try {
-    (void)sky::parse_iso8601("2000-01-01T00:00" + zone);
+    (void)sky::parse_iso8601("2000-01-01T12:00" + zone);
   } catch (const std::invalid_argument&) {
-    t.fail("zone", "'" + zone + "' is not a zone: expected Z or an offset such as +02:00 or -03:30");
+    if (is_offset) t.fail("zone", "'" + zone_text + "' is not a zone: expected Z or an offset such as +02:00 or -03:30");
+    t.fail("zone", "'" + zone_text + "' is not a zone: expected Z, an offset such as +02:00, or an IANA zone "
+                   "such as Europe/Paris from the system's tz database");
   }
   const std::vector<std::string> of_day = temporal_list(t, "times_of_day", "a time of day such as \"08:30\"");
   const std::optional<std::string> day_start = temporal(t, "day_start", "a time of day such as \"06:00\"");
@@ -116,7 +122,7 @@ void read_dates(Fields& t, const std::vector<std::string>& dates, std::vector<sk
     if (date.find('T') != std::string::npos || date.size() != 10) {
       t.fail("dates", "'" + date + "' is not a calendar date: expected YYYY-MM-DD");
     }
-    (void)instant_at(t, "dates", date + "T00:00" + zone);
+    (void)instant_at(t, "dates", date + "T12:00" + zone);  // noon: a date whose midnight a zone skips is still a date
     if (day_start) {
       const sky::Instant t0 = instant_at(t, "day_start", date + "T" + *day_start + zone);
       const std::optional<std::string> day_end = temporal(t, "day_end", "a time of day such as \"17:00\"");

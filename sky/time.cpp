@@ -4,16 +4,20 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+
+#include <date/tz.h>
 
 namespace skypol::sky {
 namespace {
 
 constexpr std::string_view kExpected =
     "expected YYYY-MM-DDThh:mm[:ss[.fff]] ('T' or a space between date and time) followed by a zone: "
-    "Z, ±hh:mm, ±hhmm or ±hh (e.g. 2022-09-23T10:30:00Z or 2022-09-23 12:30:00+02:00)";
+    "Z, ±hh:mm, ±hhmm, ±hh or an IANA zone in brackets (e.g. 2022-09-23T10:30:00Z, "
+    "2022-09-23 12:30:00+02:00 or 2022-09-23T12:30:00[Europe/Paris])";
 
 [[noreturn]] void fail(std::string_view text, std::string_view problem) {
   throw std::invalid_argument("invalid ISO 8601 instant \"" + std::string(text) + "\": " +
@@ -92,6 +96,39 @@ long long days_from_civil(int year, int month, int day) {
   return d.time_since_epoch().count();
 }
 
+// Local civil seconds (since 1970-01-01T00:00 on the local calendar) in an IANA zone, from the
+// system's tz database (Debian's tzdata), as POSIX seconds. A local time the zone skips (clocks
+// forward) is an error; one it repeats (clocks back) needs the offset to say which is meant. An
+// offset given with the zone must be the zone's offset at that instant.
+long long in_zone(std::string_view text, long long local, std::optional<int> offset_minutes, std::string_view name) {
+  const date::time_zone* zone = nullptr;
+  try {
+    zone = date::locate_zone(name);
+  } catch (const std::exception&) {
+    fail(text, "unknown time zone '" + std::string(name) + "' (expected an IANA name such as Europe/Paris, "
+               "from the system's tz database)");
+  }
+  const date::local_seconds ls{std::chrono::seconds{local}};
+  if (offset_minutes) {
+    const date::sys_seconds sys{std::chrono::seconds{local - *offset_minutes * 60LL}};
+    const auto zone_offset = std::chrono::duration_cast<std::chrono::minutes>(zone->get_info(sys).offset).count();
+    if (zone_offset != *offset_minutes) {
+      fail(text, "the offset disagrees with " + std::string(name) + ", whose offset then is " +
+                     std::to_string(zone_offset) + " min");
+    }
+    return sys.time_since_epoch().count();
+  }
+  const date::local_info info = zone->get_info(ls);
+  if (info.result == date::local_info::nonexistent) {
+    fail(text, "this local time does not exist in " + std::string(name) + " (the clocks jump forward over it)");
+  }
+  if (info.result == date::local_info::ambiguous) {
+    fail(text, "this local time occurs twice in " + std::string(name) +
+                   " (the clocks go back): give the offset too, e.g. …+01:00[" + std::string(name) + "]");
+  }
+  return local - std::chrono::duration_cast<std::chrono::seconds>(info.first.offset).count();
+}
+
 }  // namespace
 
 Instant parse_iso8601(std::string_view text) {
@@ -114,9 +151,9 @@ Instant parse_iso8601(std::string_view text) {
     if (c.accept('.') || c.accept(',')) fraction = c.fraction();  // ISO 8601 allows either mark
   }
 
-  int offset_minutes = 0;
+  std::optional<int> offset_minutes;
   if (c.accept('Z') || c.accept('z')) {
-    // UTC
+    offset_minutes = 0;
   } else if (c.peek() == '+' || c.peek() == '-') {
     const int sign = c.peek() == '-' ? -1 : 1;
     c.accept(c.peek());
@@ -130,9 +167,19 @@ Instant parse_iso8601(std::string_view text) {
     check_range(text, zh, 0, 23, "zone hours");
     check_range(text, zm, 0, 59, "zone minutes");
     offset_minutes = sign * (zh * 60 + zm);
-  } else if (c.done()) {
-    fail(text, "the zone is missing (a local time without a zone is ambiguous)");
-  } else {
+  }
+  // RFC 9557's suffix: an IANA zone in brackets, alone or after an offset it must agree with.
+  std::string_view zone_name;
+  if (c.peek() == '[') {
+    const std::size_t open = c.pos();
+    const std::size_t close = text.find(']', open);
+    if (close == std::string_view::npos) fail(text, "the zone name opened at position " + std::to_string(open + 1) + " has no ']'");
+    zone_name = text.substr(open + 1, close - open - 1);
+    if (zone_name.empty()) fail(text, "empty zone name in brackets");
+    while (c.pos() <= close) c.accept(c.peek());
+  }
+  if (!offset_minutes && zone_name.empty()) {
+    if (c.done()) fail(text, "the zone is missing (a local time without a zone is ambiguous)");
     fail(text, "unexpected character at position " + std::to_string(c.pos() + 1));
   }
   if (!c.done()) fail(text, "unexpected trailing text at position " + std::to_string(c.pos() + 1));
@@ -152,9 +199,9 @@ Instant parse_iso8601(std::string_view text) {
                    (month < 10 ? "0" : "") + std::to_string(month));
   }
 
-  const long long whole = days_from_civil(year, month, day) * 86400LL + hour * 3600LL + minute * 60LL +
-                          second - offset_minutes * 60LL;
-  return Instant{static_cast<double>(whole) + fraction};
+  const long long local = days_from_civil(year, month, day) * 86400LL + hour * 3600LL + minute * 60LL + second;
+  if (zone_name.empty()) return Instant{static_cast<double>(local - *offset_minutes * 60LL) + fraction};
+  return Instant{static_cast<double>(in_zone(text, local, offset_minutes, zone_name)) + fraction};
 }
 
 CalendarUtc to_calendar(Instant t) {

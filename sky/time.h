@@ -15,7 +15,10 @@ struct Instant {
 };
 
 // Parses "2022-09-23T10:30:00Z", "2022-09-23T12:30:00+02:00", "2022-09-23 10:30:00.5-07:00",
-// a date and time with an explicit zone (Z or ±hh:mm / ±hhmm / ±hh). Also accepted: seconds
+// a date and time with an explicit zone (Z or ±hh:mm / ±hhmm / ±hh), or with an IANA zone in
+// brackets as RFC 9557 writes it: "2022-09-23T12:30:00[Europe/Paris]" (the offset then comes from
+// the system's tz database, daylight saving included; a skipped local time is an error, a repeated
+// one needs the offset too: "2022-10-30T02:30:00+01:00[Europe/Paris]"). Also accepted: seconds
 // omitted ("…T10:30Z"), any number of fractional digits after '.' or ',', lower-case 't'/'z'.
 // A missing zone, an invalid field (month 13, 30 February, hour 24, a leap second :60 — POSIX
 // time cannot hold it) or trailing text throws std::invalid_argument quoting the text, naming

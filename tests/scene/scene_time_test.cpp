@@ -53,6 +53,19 @@ times_of_day = ["08:30", "10:00", "11:05", "14:28", "15:38", "17:00"]
   CHECK(s[5] == k20180326 + 9 * 3600);              // 17:00+08:00 = 09:00Z
 }
 
+TEST_CASE("a named IANA zone gives each date its own offset, daylight saving included", "[scene][time]") {
+  // Paris: CET (+01:00) until the last Sunday of March 2018 (the 25th) at 01:00Z, CEST (+02:00)
+  // after; the EU rule, independent of skypol. Noon local on the 24th and the 26th.
+  const auto s = seconds(R"([time]
+dates = ["2018-03-24", "2018-03-26"]
+zone = "Europe/Paris"
+times_of_day = ["12:00"]
+)");
+  REQUIRE(s.size() == 2);
+  CHECK(s[0] == k20180326 - 2 * 86400 + 11 * 3600);  // 12:00+01:00 = 11:00Z
+  CHECK(s[1] == k20180326 + 10 * 3600);              // 12:00+02:00 = 10:00Z
+}
+
 TEST_CASE("several dates, each with a day range", "[scene][time]") {
   const auto s = seconds(R"([time]
 dates = ["2018-03-26", 2018-03-28]
@@ -81,8 +94,11 @@ TEST_CASE("a time without a zone is an error, never a guess", "[scene][time][err
              Catch::StartsWith("t.toml:2:12: error: key 'time.instants': a date and time needs a zone"));
   CHECK_THAT(error_of("[time]\ndates = \"2018-03-26\"\ntimes_of_day = [\"08:00\"]\n"),
              Catch::Contains("missing key 'time.zone'"));
-  CHECK_THAT(error_of("[time]\ndates = \"2018-03-26\"\nzone = \"Europe/Paris\"\ntimes_of_day = [\"08:00\"]\n"),
-             Catch::StartsWith("t.toml:3:8: error: key 'time.zone': 'Europe/Paris' is not a zone"));
+  CHECK_THAT(error_of("[time]\ndates = \"2018-03-26\"\nzone = \"Mars/Olympus_Mons\"\ntimes_of_day = [\"08:00\"]\n"),
+             Catch::StartsWith("t.toml:3:8: error: key 'time.zone': 'Mars/Olympus_Mons' is not a zone"));
+  // A local time that daylight saving skips is refused at its key (Paris, 27 March 2022, 02:00 → 03:00).
+  CHECK_THAT(error_of("[time]\ndates = \"2022-03-27\"\nzone = \"Europe/Paris\"\ntimes_of_day = [\"02:30\"]\n"),
+             Catch::StartsWith("t.toml:4:16: error: key 'time.times_of_day':") && Catch::Contains("does not exist in Europe/Paris"));
 }
 
 TEST_CASE("[time] errors name the key", "[scene][time][errors]") {

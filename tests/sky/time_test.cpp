@@ -93,3 +93,21 @@ TEST_CASE("bad instants throw std::invalid_argument saying what was expected", "
   CHECK_THROWS_WITH(parse_iso8601("2023-02-29T00:00:00Z"), Catch::Contains("does not exist"));
   CHECK_THROWS_WITH(parse_iso8601("2022-09-23T10:30:60Z"), Catch::Contains("leap second"));
 }
+
+TEST_CASE("IANA zones in brackets (RFC 9557) follow the tz database, daylight saving included", "[time]") {
+  // Expected offsets from the zones' published rules, not from the code under test: Paris is
+  // +02:00 in September and +01:00 in December 2022; Sydney +11:00 in January (AEDT).
+  CHECK(parse_iso8601("2022-09-23T12:30:00[Europe/Paris]") == parse_iso8601("2022-09-23T10:30:00Z"));
+  CHECK(parse_iso8601("2022-12-21T12:00:00[Europe/Paris]") == parse_iso8601("2022-12-21T11:00:00Z"));
+  CHECK(parse_iso8601("2022-01-15T12:00:00[Australia/Sydney]") == parse_iso8601("2022-01-15T01:00:00Z"));
+  // An offset with the zone must agree with it; it also picks one of a repeated hour.
+  CHECK(parse_iso8601("2022-09-23T12:30:00+02:00[Europe/Paris]") == parse_iso8601("2022-09-23T10:30:00Z"));
+  CHECK(parse_iso8601("2022-10-30T02:30:00+02:00[Europe/Paris]") == parse_iso8601("2022-10-30T00:30:00Z"));
+  CHECK(parse_iso8601("2022-10-30T02:30:00+01:00[Europe/Paris]") == parse_iso8601("2022-10-30T01:30:00Z"));
+  CHECK_THROWS_WITH(parse_iso8601("2022-09-23T12:30:00+01:00[Europe/Paris]"), Catch::Contains("disagrees"));
+  // Clocks forward on 27 March 2022 at 02:00 (02:30 never happens); back on 30 October (02:30 twice).
+  CHECK_THROWS_WITH(parse_iso8601("2022-03-27T02:30:00[Europe/Paris]"), Catch::Contains("does not exist"));
+  CHECK_THROWS_WITH(parse_iso8601("2022-10-30T02:30:00[Europe/Paris]"), Catch::Contains("occurs twice"));
+  CHECK_THROWS_WITH(parse_iso8601("2022-09-23T12:30:00[Mars/Olympus_Mons]"), Catch::Contains("unknown time zone"));
+  CHECK_THROWS_WITH(parse_iso8601("2022-09-23T12:30:00[Europe/Paris"), Catch::Contains("no ']'"));
+}
