@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <utility>
 
 #include "render/occluders_embree.h"
 #include "stack/preview.h"
@@ -15,6 +16,11 @@ namespace skypol::render {
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The last stack's frame, kept for the next stack on this thread (a sweep renders one stack per
+// variant): its pixel memory is already allocated and touched, so a next stack of the same size
+// pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
+thread_local stack::Frame t_spare_frame;
 }  // namespace
 
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
@@ -51,7 +57,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   std::optional<stack::PreviewFolder> previews;
   if (scene.output.previews) previews.emplace(stack::preview_folder_for(out_path));
   const Renderer renderer(cam, ro, make_occluders(scene.occluders));  // null without occluders
-  stack::Frame f = renderer.new_frame();  // refilled for every part: pixel memory is allocated once per stack
+  // Refilled for every part: pixel memory is allocated once per stack, or not at all when the
+  // previous stack left its frame (render() resizes the channels, reusing what fits).
+  stack::Frame f = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
   report.setup_seconds = since(t_setup);
 
   stack::StackHeader header;
@@ -78,6 +86,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
     // needed) stay in the frame, whose memory the next part reuses.
     return f;
   });
+  t_spare_frame = std::move(f);
   if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());
   report.render_seconds = render_s;

@@ -7,9 +7,8 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include <OpenImageIO/imageio.h>
-
 #include "scene/json_text.h"
+#include "stack/oiio_module.h"
 #include "stack/stack_io.h"
 #include "skypole/classic.h"
 #include "skypole/evaluate.h"
@@ -63,17 +62,15 @@ void write_intermediates(const ClassicImages& im, const std::string& path) {
   for (std::size_t c = 0; c < names.size(); ++c) {
     for (std::size_t i = 0; i < n; ++i) pixels[i * names.size() + c] = planes[c][i];
   }
-  OIIO::ImageSpec spec(im.width, im.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
-  spec.channelnames = names;
-  spec.attribute("compression", "zip");
   std::string thresholds;
   for (float t : im.thresholds) thresholds += (thresholds.empty() ? "" : " ") + std::to_string(t);
-  spec.attribute("skypol:classic_thresholds", thresholds);
   const std::string tmp = path + ".tmp";
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
+  const std::string error = stack::oiio::write_float_image(
+      path, tmp, im.width, im.height, names, pixels.data(),
+      {{"compression", "zip"}, {"skypol:classic_thresholds", thresholds}});
+  if (!error.empty()) {
     std::remove(tmp.c_str());
-    throw std::invalid_argument("cannot write " + path + ": " + OIIO::geterror());
+    throw std::invalid_argument("cannot write " + path + ": " + error);
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::invalid_argument("cannot rename to " + path);
 }

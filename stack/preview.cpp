@@ -8,11 +8,8 @@
 #include <stdexcept>
 #include <system_error>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
-
 #include "stack/colormap.h"
+#include "stack/oiio_module.h"
 #include "stack/polarization_math.h"
 #include "scene/scene.h"
 
@@ -88,14 +85,10 @@ class Canvas {
   std::vector<float> px_;
 };
 
-struct Text {
-  int x, y;  // baseline anchor
-  std::string text;
-  OIIO::ImageBufAlgo::TextAlignX align = OIIO::ImageBufAlgo::TextAlignX::Left;
-};
-constexpr auto kLeft = OIIO::ImageBufAlgo::TextAlignX::Left;
-constexpr auto kCentre = OIIO::ImageBufAlgo::TextAlignX::Center;
-constexpr auto kRight = OIIO::ImageBufAlgo::TextAlignX::Right;
+using Text = oiio::Label;  // x, y: the baseline anchor
+constexpr auto kLeft = oiio::Align::Left;
+constexpr auto kCentre = oiio::Align::Centre;
+constexpr auto kRight = oiio::Align::Right;
 
 // A colour bar with its ticks: value(t) for t in [0, 1] across the bar, labels at given t.
 template <class Colour>
@@ -111,13 +104,6 @@ void draw_bar(Canvas& c, const PreviewLayout& l, int panel, Colour colour,
     c.fill(x, l.bar_y + l.bar_h, 1, kTickH, kText);
     // The end labels stay within the bar, so that neighbouring panels' labels never meet.
     texts.push_back({x, l.bar_y + l.bar_h + kTickH + kTickLabelH - 4, label, t <= 0 ? kLeft : (t >= 1 ? kRight : kCentre)});
-  }
-}
-
-void put_text(OIIO::ImageBuf& buf, const std::vector<Text>& texts) {
-  for (const Text& t : texts) {
-    // Without the font the picture is still right, only unlabelled.
-    OIIO::ImageBufAlgo::render_text(buf, t.x, t.y, t.text, kFontPx, kFont, {kText[0], kText[1], kText[2]}, t.align);
   }
 }
 
@@ -264,15 +250,13 @@ void write_preview_png(const PreviewFrame& frame, const std::string& path, int m
   const PreviewLayout l = preview_layout(frame.width, frame.height, max_panel_px);
   std::vector<Text> texts;
   std::vector<float> pixels = draw(frame, l, &texts);
-  OIIO::ImageBuf buf(OIIO::ImageSpec(l.width, l.height, 3, OIIO::TypeDesc::FLOAT), pixels.data());
-  put_text(buf, texts);
   const fs::path final_path(path);
   const fs::path temp = final_path.parent_path() / ("." + final_path.filename().string() + ".tmp.png");
-  buf.set_write_format(OIIO::TypeDesc::UINT8);
-  if (!buf.write(temp.string(), OIIO::TypeDesc::UINT8, "png")) {
+  const oiio::Font font{kFont, kFontPx, {kText[0], kText[1], kText[2]}};
+  if (const std::string error = oiio::write_png(temp.string(), l.width, l.height, pixels.data(), texts, font); !error.empty()) {
     std::error_code ec;
     fs::remove(temp, ec);
-    throw std::runtime_error("cannot write preview " + path + ": " + buf.geterror());
+    throw std::runtime_error("cannot write preview " + path + ": " + error);
   }
   std::error_code ec;
   fs::rename(temp, final_path, ec);
@@ -326,41 +310,42 @@ void PreviewFolder::commit() {
 }
 
 std::size_t write_stack_previews(const std::string& stack_path, const std::string& folder) {
-  auto in = OIIO::ImageInput::open(stack_path);
-  if (!in) throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, "cannot open the stack: " + OIIO::geterror());
-  const OIIO::ImageSpec& first = in->spec();
-  const std::string camera_text = first.get_string_attribute("skypol:camera");
+  std::string open_error;
+  auto in = oiio::open(stack_path, &open_error);
+  if (!in) throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, "cannot open the stack: " + open_error);
+  const oiio::Reader& first = *in;
+  const std::string camera_text = first.string_attribute("skypol:camera", "");
   if (camera_text.empty()) throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, "not a skypol stack (no skypol:camera attribute)");
   const auto cam = scene::build_camera(scene::parse_camera(camera_text, stack_path + " [skypol:camera]"));
-  std::string band = first.get_string_attribute("skypol:bands", "Y");
+  std::string band = first.string_attribute("skypol:bands", "Y");
   band = band.substr(0, band.find(','));
   const std::vector<std::uint8_t> inside = preview_inside(*cam);
 
   PreviewFolder out(folder);
   std::size_t count = 0;
-  for (int part = 0; in->seek_subimage(part, 0); ++part) {
-    const OIIO::ImageSpec spec = in->spec();
+  for (int part = 0; in->seek(part); ++part) {
+    const oiio::Reader& spec = *in;
     const std::string what = stack_path + " part " + std::to_string(part);
-    if (spec.width != cam->width() || spec.height != cam->height()) {
+    if (spec.width() != cam->width() || spec.height() != cam->height()) {
       throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, what + ": size differs from the camera in the header");
     }
-    std::vector<float> all(static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height) *
-                           static_cast<std::size_t>(spec.nchannels));
-    if (!in->read_image(part, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
-      throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, what + ": " + in->geterror());
+    std::vector<float> all(static_cast<std::size_t>(spec.width()) * static_cast<std::size_t>(spec.height()) *
+                           static_cast<std::size_t>(spec.nchannels()));
+    if (!in->read(part, all.data())) {
+      throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, what + ": " + in->error());
     }
     auto channel = [&](const std::string& name) {
       std::vector<float> v;
-      const int c = spec.channelindex(name);
+      const int c = spec.channel_index(name);
       if (c < 0) return v;
-      const std::size_t nc = static_cast<std::size_t>(spec.nchannels);
+      const std::size_t nc = static_cast<std::size_t>(spec.nchannels());
       v.resize(all.size() / nc);
       for (std::size_t i = 0; i < v.size(); ++i) v[i] = all[i * nc + static_cast<std::size_t>(c)];
       return v;
     };
     PreviewFrame p;
-    p.width = spec.width;
-    p.height = spec.height;
+    p.width = spec.width();
+    p.height = spec.height();
     p.s0 = channel("S0." + band);
     p.dolp = channel("DoLP." + band);
     p.aolp = channel("AoLP." + band);
@@ -372,9 +357,9 @@ std::size_t write_stack_previews(const std::string& stack_path, const std::strin
       throw scene::SceneError(scene::FileLoc{stack_path, 0, 0}, e.what());
     }
     p.inside = inside;
-    const std::string time = spec.get_string_attribute("skypol:time");
-    p.title = title_of(time, spec.get_float_attribute("skypol:sunAzimuthDeg"),
-                       spec.get_float_attribute("skypol:sunElevationDeg"));
+    const std::string time = spec.string_attribute("skypol:time", "");
+    p.title = title_of(time, spec.float_attribute("skypol:sunAzimuthDeg"),
+                       spec.float_attribute("skypol:sunElevationDeg"));
     out.add(preview_file_name(static_cast<std::size_t>(part), time), p);
     ++count;
   }

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <thread>
 
 #include "render/pipeline.h"
 #include "stack/stack_io.h"
@@ -114,5 +116,36 @@ TEST_CASE("asking for a channel a stack lacks names it and the ones it has", "[s
     CHECK_THAT(e.what(), Catch::Contains("no channel 'DoLP.R'"));
     CHECK_THAT(e.what(), Catch::Contains("DoLP.Y"));
   }
+  fs::remove_all(dir);
+}
+
+namespace {
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+}  // namespace
+
+TEST_CASE("a stack rendered after another, in that one's memory, is the file a fresh process writes", "[stack]") {
+  // render_scene keeps its frame for the next stack on the same thread (render/pipeline.cpp); a
+  // new thread starts with none, as a new process does.
+  const fs::path dir = temp_dir();
+  std::string other = kScene;
+  other.replace(other.find("width = 70\nheight = 60"), 22, "width = 90\nheight = 50");
+  other += "\n[output]\nchannels = [\"DoLP\", \"mask\"]\n";
+  auto fresh = [&](const std::string& text, const fs::path& path) {
+    std::thread([&] { render::render_scene(scene::parse_scene(text, "fresh.toml"), path.string()); }).join();
+  };
+  fresh(kScene, dir / "fresh-a.exr");
+  fresh(other, dir / "fresh-b.exr");
+  // One thread, in turn: bigger to smaller and fewer channels, then back.
+  std::thread([&] {
+    render::render_scene(scene::parse_scene(kScene, "fresh.toml"), (dir / "a1.exr").string());
+    render::render_scene(scene::parse_scene(other, "fresh.toml"), (dir / "b.exr").string());
+    render::render_scene(scene::parse_scene(kScene, "fresh.toml"), (dir / "a2.exr").string());
+  }).join();
+  CHECK(file_bytes((dir / "b.exr").string()) == file_bytes((dir / "fresh-b.exr").string()));
+  CHECK(file_bytes((dir / "a2.exr").string()) == file_bytes((dir / "fresh-a.exr").string()));
+  CHECK(file_bytes((dir / "a1.exr").string()) == file_bytes((dir / "fresh-a.exr").string()));
   fs::remove_all(dir);
 }
