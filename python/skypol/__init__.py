@@ -26,7 +26,7 @@ from ._skypol import SceneError, method_names, parse_time, format_time
 
 __all__ = [
     "SceneError", "Scene", "Camera", "Frame", "Stack", "Estimate",
-    "load_scene", "parse_scene", "render_frame", "render_stack", "read_stack", "write_stack",
+    "load_scene", "parse_scene", "render_frame", "render_stack", "iter_frames", "read_stack", "write_stack",
     "stack_from_arrays", "estimate", "method_names", "sun_position", "parse_time", "format_time",
 ]
 
@@ -300,6 +300,21 @@ def render_stack(scene: Scene, *, frames: Any = None, times: Any = None,
     t = None if times is None else _unix_seconds(times).tolist()
     return Stack(_skypol.render(scene._h, _frame_selection(frames), t,
                                 None if channels is None else list(channels)))
+
+
+def iter_frames(scene: Scene, *, channels: Sequence[str] | None = None, copy: bool = False):
+    """The scene's frames one at a time, as `skypol render` renders them: the renderer is set up
+    once and, without a [sensor], every frame is rendered into the same memory, so a frame's
+    arrays are overwritten by the next one (copy=True gives each frame its own arrays). The way to
+    go through a full-resolution series without holding it all (2.8 GB for the paper's scene)."""
+    stream = _skypol.FrameStream(scene._h, None if channels is None else list(channels))
+    for k in range(len(scene.times)):
+        h = stream.render(k)
+        arrays = {c: h.channel(0, c) for c in h.channel_names(0)}
+        if copy:
+            arrays = {c: a.copy() for c, a in arrays.items()}
+        truth = h.truth(0)
+        yield Frame(k, truth["time"], arrays, truth)
 
 
 def render_frame(scene: Scene, index: int = 0, *, time: Any = None,

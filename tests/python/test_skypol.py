@@ -100,6 +100,21 @@ class RenderMatchesCli(Tmp):
         for name in whole.channel_names:
             self.assertTrue(same_bits(whole[2][name], one[name]), name)
 
+    def test_iter_frames_is_render_stack(self):
+        for scene_file, overrides, band in ((MARSEILLE, {"camera.binning": 16}, "Y"),
+                                            (DOFP, {"camera.binning": 16, "time.step_min": 240}, "R")):
+            scene = skypol.load_scene(scene_file, overrides=overrides)
+            whole = skypol.render_stack(scene)
+            frames = list(skypol.iter_frames(scene, copy=True))
+            self.assertEqual(len(frames), len(whole))
+            for a, b in zip(frames, whole):
+                self.assertEqual(a.time, b.time)
+                for name in whole.channel_names:
+                    self.assertTrue(same_bits(a[name], b[name]), f"{scene_file} frame {a.index} {name}")
+        # Without a sensor (and without copy) every frame is rendered into the same memory.
+        scene = skypol.load_scene(MARSEILLE, overrides={"camera.binning": 16})
+        self.assertEqual(len({f["S0.Y"].__array_interface__["data"][0] for f in skypol.iter_frames(scene)}), 1)
+
     def test_arrays_share_the_stack_memory(self):
         scene = skypol.load_scene(MARSEILLE, overrides={"camera.binning": 16})
         stack = skypol.render_stack(scene, frames=[0, 5])
