@@ -66,3 +66,9 @@ skypol_check_room(TARGET skypol_scene FORBIDDEN skypol_stack ${_skypol_above_ren
 skypol_check_room(TARGET skypol_stack FORBIDDEN ${_skypol_above_render} skypol_skypole)
 skypol_check_room(TARGET skypol_skypole FORBIDDEN ${_skypol_above_render})
 skypol_check_room(TARGET skypol_render FORBIDDEN skypol_studies skypol_skypole)
+# The Python module (python/) may use every room, like cli/; no room and no executable uses it.
+if(TARGET skypol_python)
+  foreach(t skypol_sky skypol_camera skypol_scene skypol_stack skypol_render skypol_skypole skypol_studies skypol)
+    skypol_check_room(TARGET ${t} FORBIDDEN skypol_python)
+  endforeach()
+endif()

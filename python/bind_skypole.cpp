@@ -1,0 +1,57 @@
+// The estimators (skypole/evaluate.h) on a stack in memory, with the GIL released: the estimate as
+// a dict (python/convert.h: every field of PoleEstimate) plus its score against the stack's truth.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "python/py_stack.h"
+#include "skypole/evaluate.h"
+
+namespace skypol::python {
+namespace {
+
+py::dict estimate(const PyStack& s, const std::string& method, const std::string& band, const std::string& hemisphere,
+                  double min_elevation_deg, double heading_undefined_within_deg,
+                  const std::optional<std::pair<double, double>>& attitude) {
+  skypole::InputOptions in;
+  in.band = band;
+  in.hemisphere = skypole::parse_hemisphere(hemisphere);
+  in.min_elevation_deg = min_elevation_deg;
+  in.heading_undefined_within_deg = heading_undefined_within_deg;
+  if (attitude) in.attitude = skypole::Attitude{attitude->first, attitude->second};
+  skypole::PoleEstimate e;
+  std::optional<skypole::Score> score;
+  {
+    py::gil_scoped_release release;
+    e = skypole::run_method(s.stack, method, in);
+    if (e.valid && !s.stack.frames.empty()) score = skypole::score(e, s.stack.frames.front().truth);
+  }
+  py::dict d = estimate_to_dict(e);
+  d["score"] = score ? py::object(score_to_dict(*score)) : py::object(py::none());
+  return d;
+}
+
+}  // namespace
+
+void bind_skypole(py::module_& m) {
+  m.def("method_names", &skypole::method_names, "The estimators run_method knows");
+  m.def("estimate", &estimate, py::arg("stack"), py::arg("method"), py::arg("band") = "",
+        py::arg("hemisphere") = "automatic", py::arg("min_elevation_deg") = 0.0,
+        py::arg("heading_undefined_within_deg") = 0.5, py::arg("attitude") = py::none(),
+        "Run one estimator on a StackHandle: dict of every PoleEstimate field plus 'score' (None if invalid)");
+  m.def(
+      "estimate_fields",
+      [] {
+        py::list names;
+        for (const auto& item : estimate_to_dict(skypole::PoleEstimate{})) names.append(item.first);
+        names.append("score");
+        return names;
+      },
+      "The keys of estimate()'s dict, in order (skypol.Estimate's fields)");
+}
+
+}  // namespace skypol::python
