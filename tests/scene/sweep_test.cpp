@@ -235,7 +235,9 @@ TEST_CASE("sweep errors are reported at the sweep file's entry", "[sweep][errors
   CHECK_THAT(error_of(d, "base = \"base.toml\"\n[axis]\n\"camera.heading_deg\" = [0]\n"),
              Catch::StartsWith(sweep + ":2:2: error: unknown key 'axis' (did you mean 'axes'?)"));
   CHECK_THAT(error_of(d, "[axes]\n\"camera.heading_deg\" = [0]\n"), Catch::Contains("missing key 'base'"));
-  CHECK_THAT(error_of(d, "base = \"nope.toml\"\n"), Catch::StartsWith((d.path / "nope.toml").string() + ": error: cannot open scene file"));
+  CHECK_THAT(error_of(d, "base = \"nope.toml\"\n"),
+             Catch::StartsWith(sweep + ":1:8: error: key 'base': cannot open the base scene '" +
+                               (d.path / "nope.toml").string() + "'"));
   CHECK_THAT(error_of(d, "base = \"base.toml\"\n[axes]\n\"camera.heading_deg\" = 30\n"),
              Catch::StartsWith(sweep + ":3:24: error: axis 'camera.heading_deg': expected a list of values"));
   CHECK_THAT(error_of(d, "base = \"base.toml\"\n[axes]\n\"camera.heading_deg\" = []\n"), Catch::Contains("no values"));

@@ -1,0 +1,93 @@
+// The hardening issue's regressions, through the executable as a user runs it: each bad input is
+// a located error with exit code 2 (never 3, never a filesystem_error), nothing is left behind,
+// killed renders' leftovers are cleaned, and -o means what README.md says.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+
+#include "cli/cli_harness.h"
+
+using skypol::test::Result;
+using skypol::test::run;
+using skypol::test::run_shell;
+using skypol::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kSite = "[site]\nlatitude_deg = 43.28699\nlongitude_deg = 5.40336\n";
+const char* kTime = "\n[time]\nstart = \"2022-09-23T08:00:00Z\"\nend = \"2022-09-23T12:00:00Z\"\nstep_min = 120\n";
+const char* kCamera = R"(
+[camera]
+model = "equidistant"
+focal_mm = 1.8
+pitch_um = 55.2
+width = 153
+height = 128
+fov_deg = 185
+binning = 4
+)";
+
+std::string scene_text() { return std::string(kSite) + kTime + kCamera; }
+
+std::set<std::string> names_in(const fs::path& dir) {
+  std::set<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out.insert(e.path().filename().string());
+  return out;
+}
+
+// `skypol ARGS`: exit 2 with `message` and a located error.
+Result expect_error(const std::string& args, const std::string& message) {
+  const Result r = run(args);
+  INFO(args);
+  INFO(r.out);
+  CHECK(r.code == 2);
+  CHECK_THAT(r.out, Catch::Contains(message));
+  CHECK_THAT(r.out, Catch::Contains("error: "));
+  CHECK_THAT(r.out, !Catch::Contains("internal error"));
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("an include name the file system refuses is a located scene error", "[cli][errors]") {
+  TempDir dir;
+  const std::string scene = dir.write("bad.toml", "include = \"" + std::string(300, 'a') + ".toml\"\n" + scene_text());
+  expect_error("render " + scene + " -o " + (dir.path / "out.exr").string(),
+               "bad.toml:1:11: error: key 'include': cannot open included file 'aaaa");
+  CHECK(names_in(dir.path) == std::set<std::string>{"bad.toml"});
+}
+
+TEST_CASE("a missing section is reported at the file's first line, by name", "[cli][errors]") {
+  TempDir dir;
+  const std::string out = (dir.path / "out.exr").string();
+  expect_error("render " + dir.write("a.toml", std::string(kTime) + kCamera) + " -o " + out,
+               "a.toml:1:1: error: key 'site': missing section [site]");
+  expect_error("render " + dir.write("b.toml", std::string(kSite) + kCamera) + " -o " + out,
+               "b.toml:1:1: error: key 'time': missing section [time]");
+  expect_error("render " + dir.write("c.toml", std::string(kSite) + kTime) + " -o " + out,
+               "c.toml:1:1: error: key 'camera': missing section [camera]");
+  CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("a sweep's missing base is reported at its base key", "[cli][errors]") {
+  TempDir dir;
+  const std::string sweep = dir.write("sweep.toml", "base = \"none.toml\"\n[axes]\n\"camera.heading_deg\" = [0, 90]\n");
+  expect_error("sweep " + sweep + " -o " + (dir.path / "out").string(),
+               sweep + ":1:8: error: key 'base': cannot open the base scene");
+  CHECK_FALSE(fs::exists(dir.path / "out"));
+}
+
+TEST_CASE("--set on a sweep axis names the command line and the axis's line", "[cli][errors]") {
+  TempDir dir;
+  dir.write("base.toml", scene_text());
+  const std::string sweep =
+      dir.write("sweep.toml", "base = \"base.toml\"\n[axes]\n\"camera.heading_deg\" = [0, 90]\n");
+  expect_error("sweep " + sweep + " -o " + (dir.path / "out").string() + " --set camera.heading_deg=10",
+               "--set:1:1: error: key 'camera.heading_deg': the command line's --set cannot set a sweep axis "
+               "(axis 'camera.heading_deg' at " + sweep + ":3:");
+  CHECK_FALSE(fs::exists(dir.path / "out"));
+}
