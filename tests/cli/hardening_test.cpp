@@ -9,6 +9,7 @@
 
 
 #include "cli/cli_harness.h"
+#include "stack/stack_io.h"
 
 using skypol::test::Result;
 using skypol::test::run;
@@ -90,4 +91,20 @@ TEST_CASE("--set on a sweep axis names the command line and the axis's line", "[
                "--set:1:1: error: key 'camera.heading_deg': the command line's --set cannot set a sweep axis "
                "(axis 'camera.heading_deg' at " + sweep + ":3:");
   CHECK_FALSE(fs::exists(dir.path / "out"));
+}
+
+TEST_CASE("a sensor whose demosaic cannot work is a scene error at its key, before any work", "[cli][errors]") {
+  TempDir dir;
+  const std::string scene = dir.write("s.toml", scene_text() + "\n[sensor]\npreset = \"lucid_phx050s_qc\"\ncolor_filter = \"none\"\n");
+  const std::string out = (dir.path / "out.exr").string();
+  REQUIRE(run("render -q " + scene + " -o " + out).code == 0);  // the sensor itself is fine
+  fs::remove(out);
+  const Result r = expect_error("render -q " + scene + " -o " + out +
+                                    " --set sensor.demosaic=calibrated --set sensor.mosaic_deg=[0,0,0,0]",
+                                "--set:1:19: error: key 'sensor.mosaic_deg': mosaic_deg: the four polarizer angles do not "
+                                "determine S1 and S2 (demosaic = \"calibrated\")");
+  CHECK_THAT(r.out, !Catch::Contains("cannot write stack"));
+  expect_error("render -q " + scene + " -o " + out + " --set sensor.mosaic_deg=[0,0,0,0]",
+               "--set:1:19: error: key 'sensor.mosaic_deg': mosaic_deg must hold 0, 45, 90 and 135");
+  CHECK(names_in(dir.path) == std::set<std::string>{"s.toml"});
 }
