@@ -28,6 +28,7 @@
 
 #include "scene/scene.h"
 #include "scene/scene_error.h"
+#include "stack/temp_files.h"
 
 namespace skypol::stack {
 namespace {
@@ -178,7 +179,8 @@ void write_stack_reusing(const std::string& path, const std::vector<scene::Truth
   const fs::path target(path);
   std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  remove_stale_temporaries(path);  // a killed render's leftovers (stack/temp_files.h)
+  const std::string tmp = temp_name(path);
   try {
     std::vector<Imf::Header> headers;
     headers.reserve(truths.size());

@@ -7,9 +7,12 @@
 #include <cmath>
 #include <set>
 
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "cli/cli_harness.h"
 #include "stack/stack_io.h"
+#include "stack/temp_files.h"
 
 using skypol::test::Result;
 using skypol::test::run;
@@ -50,6 +53,15 @@ Result expect_error(const std::string& args, const std::string& message) {
   CHECK_THAT(r.out, Catch::Contains("error: "));
   CHECK_THAT(r.out, !Catch::Contains("internal error"));
   return r;
+}
+
+// A PID that belongs to no live process: a child that has exited and been reaped.
+std::string dead_pid() {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  REQUIRE(child > 0);
+  ::waitpid(child, nullptr, 0);
+  return std::to_string(child);
 }
 
 }  // namespace
@@ -107,4 +119,41 @@ TEST_CASE("a sensor whose demosaic cannot work is a scene error at its key, befo
   expect_error("render -q " + scene + " -o " + out + " --set sensor.mosaic_deg=[0,0,0,0]",
                "--set:1:19: error: key 'sensor.mosaic_deg': mosaic_deg must hold 0, 45, 90 and 135");
   CHECK(names_in(dir.path) == std::set<std::string>{"s.toml"});
+}
+
+TEST_CASE("previews into a folder that cannot be written are a clear error, nothing left", "[cli][errors]") {
+  TempDir dir;
+  const std::string scene = dir.write("p.toml", scene_text() + "\n[output]\npreviews = true\n");
+  dir.write("file", "a regular file");
+  // A folder whose parent is a regular file (ENOTDIR, also for root), and /proc (read-only for root).
+  const std::string under_file = (dir.path / "file" / "x.exr").string();
+  expect_error("render -q " + scene + " -o " + under_file, (dir.path / "file" / "x-preview").string() +
+                                                               ": error: cannot write the previews: cannot create");
+  expect_error("render -q " + scene + " -o /proc/skypol-x.exr", "/proc/skypol-x-preview: error: cannot write the previews");
+  CHECK_FALSE(fs::exists("/proc/skypol-x.exr"));
+  CHECK(names_in(dir.path) == std::set<std::string>{"p.toml", "file"});
+
+  // `skypol preview` of a good stack, into the same kinds of folder.
+  const std::string stack = (dir.path / "ok.exr").string();
+  REQUIRE(run("render -q " + scene + " -o " + stack).code == 0);
+  REQUIRE(fs::is_directory(dir.path / "ok-preview"));
+  expect_error("preview " + stack + " -o " + (dir.path / "file" / "pv").string(),
+               (dir.path / "file" / "pv").string() + ": error: cannot write the previews: cannot create");
+  expect_error("preview " + stack + " -o /proc/skypol-pv", "/proc/skypol-pv: error: cannot write the previews");
+  CHECK(names_in(dir.path) == std::set<std::string>{"p.toml", "file", "ok.exr", "ok-preview"});
+}
+
+TEST_CASE("a render removes its target's leftovers of this host's dead processes, no one else's", "[cli][leftovers]") {
+  TempDir dir;
+  const std::string scene = dir.write("p.toml", scene_text() + "\n[output]\npreviews = true\n");
+  const std::string host = skypol::stack::host_name(), dead = dead_pid();
+  const std::string mine = "out.exr.tmp-" + host + "-" + dead, preview = ".out-preview.tmp-" + host + "-" + dead;
+  const std::string other_host = "out.exr.tmp-some-other-node-" + dead, other_file = "else.exr.tmp-" + host + "-" + dead;
+  for (const std::string& n : {mine, other_host, other_file}) dir.write(n, "half a stack");
+  fs::create_directories(dir.path / preview);
+  dir.write(preview + "/0000.png", "half a picture");
+  const Result r = run("render -q " + scene + " -o " + (dir.path / "out.exr").string());
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  CHECK(names_in(dir.path) == std::set<std::string>{"p.toml", "out.exr", "out-preview", other_host, other_file});
 }

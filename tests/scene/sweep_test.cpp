@@ -12,6 +12,7 @@
 
 #include "scene/json_text.h"
 #include "stack/stack_io.h"
+#include "stack/temp_files.h"
 #include "render/sweep_run.h"
 #include "scene/sweep.h"
 
@@ -176,13 +177,18 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK(dry.rendered == 0);
   o.dry_run = false;
 
-  // Leftovers of a killed run (NAME.tmp-PID) are removed when PID is gone; a live writer's stay.
+  // Leftovers of a killed run on this host (NAME.tmp-HOST-PID) are removed when PID is gone; a live
+  // writer's stay, and so do another host's and the host-less ones of older runs (no one here can
+  // tell whether their writer lives).
   const std::string variant2 = manifest[2].substr(manifest[2].find("\"file\": \"") + 9, 19);
   const pid_t dead = ::fork();
   if (dead == 0) ::_exit(0);
   ::waitpid(dead, nullptr, 0);
-  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))) << "half a stack";
-  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(::getppid()))) << "being written";
+  const std::string here = ".tmp-" + host_name() + "-";
+  std::ofstream(d.path / "out" / (variant2 + here + std::to_string(dead))) << "half a stack";
+  std::ofstream(d.path / "out" / (variant2 + here + std::to_string(::getppid()))) << "being written";
+  std::ofstream(d.path / "out" / (variant2 + ".tmp-other-node-" + std::to_string(dead))) << "another host's";
+  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))) << "an older run's";
 
   // Resume: the finished variant is skipped; the whole sweep completes the rest.
   const auto mtime = fs::last_write_time(d.path / "out" / name);
@@ -192,8 +198,10 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK(second.rendered == 3);
   CHECK(fs::last_write_time(d.path / "out" / name) == mtime);
   CHECK(lines_of(d.path / "out" / "manifest.jsonl") == manifest);  // the same bytes from every run
-  CHECK_FALSE(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))));
-  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(::getppid()))));
+  CHECK_FALSE(fs::exists(d.path / "out" / (variant2 + here + std::to_string(dead))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + here + std::to_string(::getppid()))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-other-node-" + std::to_string(dead))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))));
   const SweepReport third = run_sweep(s, o);
   CHECK(third.rendered == 0);
   CHECK(third.skipped == 4);

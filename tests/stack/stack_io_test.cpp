@@ -7,6 +7,11 @@
 
 #include "render/pipeline.h"
 #include "stack/stack_io.h"
+#include "stack/temp_files.h"
+
+#include <set>
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace skypol;
 namespace fs = std::filesystem;
@@ -87,6 +92,39 @@ TEST_CASE("a write that fails leaves no file behind", "[stack][errors]") {
   }));
   CHECK_FALSE(fs::exists(path));
   CHECK(fs::is_empty(dir));  // no temporary either
+  fs::remove_all(dir);
+}
+
+TEST_CASE("temporaries carry host and PID; only this host's dead leftovers are stale", "[stack][temporaries]") {
+  const fs::path dir = temp_dir() / "tmpnames";
+  fs::create_directories(dir);
+  const std::string host = stack::host_name();
+  CHECK(host.find('/') == std::string::npos);
+  const std::string target = (dir / "a.exr").string();
+  CHECK(stack::temp_name(target) == target + ".tmp-" + host + "-" + std::to_string(::getpid()));
+  // A PID that surely belongs to no live process: a child that has exited and been reaped.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  REQUIRE(child > 0);
+  ::waitpid(child, nullptr, 0);
+  const std::string dead = std::to_string(child), alive = std::to_string(::getpid());
+  for (const std::string& name : {"a.exr.tmp-" + host + "-" + dead, "a.exr.tmp-" + host + "-" + alive,
+                                  "a.exr.tmp-elsewhere-" + dead, "a.exr.tmp-" + dead, "b.exr.tmp-" + host + "-" + dead}) {
+    std::ofstream(dir / name) << "x";
+  }
+  fs::create_directories(dir / (".a-preview.tmp-" + host + "-" + dead));
+  const auto stale = stack::stale_temporaries(dir);
+  REQUIRE(stale.count("a.exr") == 1);
+  CHECK(stale.at("a.exr") == std::vector<fs::path>{dir / ("a.exr.tmp-" + host + "-" + dead)});
+  CHECK(stale.count("b.exr") == 1);
+  CHECK(stale.count(".a-preview") == 1);
+  CHECK(stale.size() == 3);
+  stack::remove_stale_temporaries(target);
+  stack::remove_stale_temporaries((dir / ".a-preview").string());
+  std::set<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.insert(e.path().filename().string());
+  CHECK(left == std::set<std::string>{"a.exr.tmp-" + host + "-" + alive, "a.exr.tmp-elsewhere-" + dead,
+                                      "a.exr.tmp-" + dead, "b.exr.tmp-" + host + "-" + dead});
   fs::remove_all(dir);
 }
 
