@@ -157,3 +157,40 @@ TEST_CASE("a render removes its target's leftovers of this host's dead processes
   REQUIRE(r.code == 0);
   CHECK(names_in(dir.path) == std::set<std::string>{"p.toml", "out.exr", "out-preview", other_host, other_file});
 }
+
+TEST_CASE("a half stack of the sun at the zenith holds no Inf: the disc is clamped to 65504", "[cli][half]") {
+  // The subsolar point of scenes/hard-sun-zenith.toml; an odd-sized image puts the optical axis,
+  // and so the sun, on the centre pixel's centre, whose ray meets the disc (radiance 2e5).
+  TempDir dir;
+  const std::string scene = dir.write("z.toml", R"([site]
+latitude_deg = 23.437762
+longitude_deg = 0.45483
+[time]
+instants = ["2022-06-21T12:00:00Z"]
+[camera]
+model = "equidistant"
+fx = 30
+width = 101
+height = 101
+fov_deg = 185
+[sky]
+sun_disc = true
+[output]
+pixel_type = "half"
+)");
+  const std::string out = (dir.path / "zenith.exr").string();
+  const Result r = run("render -q " + scene + " -o " + out);
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  const skypol::stack::Stack st = skypol::stack::read_stack(out);
+  REQUIRE(st.frames.size() == 1);
+  float highest = 0;
+  for (const auto& [name, values] : st.frames[0].channels) {
+    for (float v : values) {
+      REQUIRE(std::isfinite(v));
+      if (name.rfind("S0.", 0) == 0) highest = std::max(highest, v);
+    }
+  }
+  CHECK(highest == 65504.0f);  // the disc, clamped
+  CHECK(st.frames[0].channel("S0.Y")[50 * 101 + 50] == 65504.0f);
+}

@@ -9,6 +9,8 @@
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
 
+#include <OpenImageIO/imageio.h>
+#include <limits>
 #include <set>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -92,6 +94,68 @@ TEST_CASE("a write that fails leaves no file behind", "[stack][errors]") {
   }));
   CHECK_FALSE(fs::exists(path));
   CHECK(fs::is_empty(dir));  // no temporary either
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a half stack clamps values beyond half's range to +-65504 and says so", "[stack][half]") {
+  // The sun disc at the zenith has a radiance of ~2e5, beyond half's largest value (65504): the
+  // writer clamps (docs/exr-format.md) instead of writing +Inf.
+  const fs::path dir = temp_dir();
+  const std::string path = (dir / "half.exr").string();
+  const scene::Scene scene = scene::parse_scene(kScene, "sydney.toml");
+  const std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  const int w = cam->width(), h = cam->height();
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  std::vector<scene::Truth> truths{scene::make_truth(scene, *cam, scene.times[0])};
+  stack::StackHeader header;
+  header.bands = {"Y"};
+  header.camera_description = scene.camera.description;
+  header.scene_text = kScene;
+  header.sky_model = "test";
+  stack::WriteOptions wo;
+  wo.half = true;
+  stack::write_stack(path, truths, {"S0.Y", "S1.Y", "mask"}, w, h, header, wo, [&](std::size_t) {
+    stack::Frame f;
+    f.width = w;
+    f.height = h;
+    f.channels["S0.Y"] = std::vector<float>(n, 0.5f);
+    f.channels["S0.Y"][7] = 2e5f;
+    f.channels["S0.Y"][8] = std::numeric_limits<float>::max();
+    f.channels["S1.Y"] = std::vector<float>(n, -0.25f);
+    f.channels["S1.Y"][7] = -1e6f;
+    f.channels["mask"] = std::vector<float>(n, 1.0f);
+    f.channels["mask"][9] = 1e6f;  // the mask stays float: never clamped
+    return f;
+  });
+  const stack::Stack st = stack::read_stack(path);
+  const stack::Frame& f = st.frames.at(0);
+  for (const auto& [name, values] : f.channels) {
+    for (float v : values) REQUIRE(std::isfinite(v));
+  }
+  CHECK(f.channel("S0.Y")[7] == 65504.0f);
+  CHECK(f.channel("S0.Y")[8] == 65504.0f);
+  CHECK(f.channel("S0.Y")[0] == 0.5f);
+  CHECK(f.channel("S1.Y")[7] == -65504.0f);
+  CHECK(f.channel("S1.Y")[0] == -0.25f);
+  CHECK(f.channel("mask")[9] == 1e6f);
+  auto in = OIIO::ImageInput::open(path);
+  REQUIRE(in);
+  CHECK(in->spec().get_float_attribute("skypol:halfClamp", 0) == 65504.0f);
+  in.reset();
+  // A float stack keeps every value and carries no such attribute.
+  wo.half = false;
+  stack::write_stack(path, truths, {"S0.Y"}, w, h, header, wo, [&](std::size_t) {
+    stack::Frame g;
+    g.width = w;
+    g.height = h;
+    g.channels["S0.Y"] = std::vector<float>(n, 2e5f);
+    return g;
+  });
+  CHECK(stack::read_stack(path).frames.at(0).channel("S0.Y")[3] == 2e5f);
+  auto in2 = OIIO::ImageInput::open(path);
+  REQUIRE(in2);
+  CHECK(in2->spec().get_float_attribute("skypol:halfClamp", 0) == 0.0f);
+  in2.reset();
   fs::remove_all(dir);
 }
 
