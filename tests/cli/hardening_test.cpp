@@ -158,6 +158,24 @@ TEST_CASE("a render removes its target's leftovers of this host's dead processes
   CHECK(names_in(dir.path) == std::set<std::string>{"p.toml", "out.exr", "out-preview", other_host, other_file});
 }
 
+TEST_CASE("-o names a file, or a folder that receives <scene name>.exr; -o \"\" is refused", "[cli][output]") {
+  TempDir dir;
+  const std::string scene = dir.write("zen.toml", scene_text());
+  // A name ending in '/' (the folder is made) and an existing folder.
+  REQUIRE(run("render -q " + scene + " -o " + (dir.path / "new").string() + "/").code == 0);
+  CHECK(fs::is_regular_file(dir.path / "new" / "zen.exr"));
+  fs::create_directories(dir.path / "old");
+  REQUIRE(run("render -q " + scene + " -o " + (dir.path / "old").string()).code == 0);
+  CHECK(fs::is_regular_file(dir.path / "old" / "zen.exr"));
+  CHECK(names_in(dir.path / "new") == std::set<std::string>{"zen.exr"});
+  // -o "" would have written the scene's output.path (out/zen.exr, relative to the working folder).
+  const Result r = run_shell("cd " + dir.path.string() + " && " + skypol::test::skypol_bin() + " render -q zen.toml -o ''");
+  INFO(r.out);
+  CHECK(r.code == 2);
+  CHECK_THAT(r.out, Catch::Contains("error: -o: the output path is empty"));
+  CHECK_FALSE(fs::exists(dir.path / "out"));
+}
+
 TEST_CASE("a half stack of the sun at the zenith holds no Inf: the disc is clamped to 65504", "[cli][half]") {
   // The subsolar point of scenes/hard-sun-zenith.toml; an odd-sized image puts the optical axis,
   // and so the sun, on the centre pixel's centre, whose ray meets the disc (radiance 2e5).
