@@ -176,6 +176,21 @@ TEST_CASE("-o names a file, or a folder that receives <scene name>.exr; -o \"\" 
   CHECK_FALSE(fs::exists(dir.path / "out"));
 }
 
+TEST_CASE("estimate --intermediates that cannot be written names the stack and the reason", "[cli][errors]") {
+  TempDir dir;
+  const std::string scene = dir.write("e.toml", scene_text());
+  const std::string stack = (dir.path / "e.exr").string();
+  REQUIRE(run("render -q " + scene + " -o " + stack).code == 0);
+  dir.write("file", "a regular file");
+  const std::string inter = (dir.path / "file" / "classic.exr").string();
+  const Result r = expect_error("estimate " + stack + " --intermediates " + inter,
+                                stack + ": cannot write the classic intermediates to " + inter + ": ");
+  // The reason is not empty: something follows the last ": ".
+  const std::string line = r.out.substr(r.out.find("cannot write the classic intermediates"));
+  CHECK(line.find_first_not_of(" \n", line.rfind(": ") + 1) != std::string::npos);
+  CHECK(names_in(dir.path) == std::set<std::string>{"e.toml", "e.exr", "file"});
+}
+
 TEST_CASE("a half stack of the sun at the zenith holds no Inf: the disc is clamped to 65504", "[cli][half]") {
   // The subsolar point of scenes/hard-sun-zenith.toml; an odd-sized image puts the optical axis,
   // and so the sun, on the centre pixel's centre, whose ray meets the disc (radiance 2e5).
