@@ -2,10 +2,13 @@
 // nothing behind; a file that is not a skypol stack is refused with its name.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "render/pipeline.h"
+#include "render/renderer.h"
+#include "scene/truth.h"
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
 
@@ -60,18 +63,49 @@ TEST_CASE("a rendered stack reads back with its pixels and truth", "[stack]") {
   CHECK(f.width == 70);
   CHECK(f.height == 60);
   for (const char* c : {"S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y", "mask"}) CHECK(f.has(c));
+  // Every truth field against a value computed here from the scene, not read from the file: the
+  // instant and site from the scene text, the sun from ERFA, the orientation and the pole's pixel
+  // from the camera the scene builds.
+  const sky::Instant when = sky::parse_iso8601("2023-01-10T02:30:00Z");
+  CHECK(f.truth.time.unix_seconds == when.unix_seconds);
   CHECK(sky::format_iso8601(f.truth.time) == "2023-01-10T02:30:00Z");
   CHECK(f.truth.site.latitude_deg == -33.8568);
+  CHECK(f.truth.site.longitude_deg == 151.2153);
+  CHECK(f.truth.site.height_m == 0);
   CHECK(f.truth.heading_deg == 200);
   CHECK(f.truth.tilt_deg == 5);
+  CHECK(f.truth.roll_deg == 0);
   CHECK_FALSE(f.truth.pole_is_north);  // Sydney sees the south celestial pole
-  CHECK(f.truth.pole_enu.z() == Approx(std::sin(33.8568 * M_PI / 180)));
-  CHECK(f.truth.pole_enu.y() < 0);
-  // The sun in the header is the one ERFA gives for that instant.
-  const sky::Sun sun = sky::sun_position(scene.site, f.truth.time);
+  const Eigen::Vector3d pole(0, -std::cos(33.8568 * M_PI / 180), std::sin(33.8568 * M_PI / 180));
+  CHECK((f.truth.pole_enu - pole).norm() < 1e-12);
+  // The sun in the header is the one ERFA gives for that instant (with the scene's options).
+  const sky::Sun sun = sky::sun_position(scene.site, when, scene.sun_options);
   CHECK(f.truth.sun.azimuth == Approx(sun.azimuth).epsilon(1e-12));
+  CHECK(f.truth.sun.elevation == Approx(sun.elevation).epsilon(1e-12));
   CHECK(f.truth.sun.declination == Approx(sun.declination).epsilon(1e-12));
-  // The pixels equal a fresh render of that frame.
+  CHECK(f.truth.sun.hour_angle == Approx(sun.hour_angle).epsilon(1e-12));
+  CHECK((f.truth.sun.direction - sun.direction).norm() < 1e-12);
+  // ENU from azimuth and elevation (docs/conventions.md), a second, independent check.
+  const Eigen::Vector3d toward(std::sin(sun.azimuth) * std::cos(sun.elevation),
+                               std::cos(sun.azimuth) * std::cos(sun.elevation), std::sin(sun.elevation));
+  CHECK((f.truth.sun.direction - toward).norm() < 1e-9);
+  const std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  CHECK((f.truth.world_from_camera - cam->world_from_camera()).norm() < 1e-12);
+  const std::optional<Eigen::Vector2d> pole_px = cam->project(pole);
+  REQUIRE(pole_px.has_value());
+  REQUIRE(f.truth.pole_pixel.has_value());
+  CHECK((*f.truth.pole_pixel - *pole_px).norm() < 1e-9);
+  // The pixels equal a fresh render of that frame, made here in memory.
+  render::RenderOptions ro;
+  ro.bands = scene.render.bands;
+  ro.channels = scene.output.channels;
+  const render::Renderer renderer(cam, ro);
+  const stack::Frame fresh = renderer.render(*scene::build_sky(scene.sky), sun);
+  for (const char* c : {"S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y", "mask"}) {
+    INFO(c);
+    CHECK(fresh.channel(c) == f.channel(c));
+  }
+  // Reading only some channels reads those alone, with the same values.
   const stack::Frame again = stack::read_stack(path, {"DoLP.Y"}).frames[1];
   CHECK(again.channels.size() == 1);
   CHECK(again.channel("DoLP.Y") == f.channel("DoLP.Y"));
