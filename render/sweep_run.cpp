@@ -1,6 +1,5 @@
 #include "render/sweep_run.h"
 
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -8,13 +7,11 @@
 #include <map>
 #include <optional>
 
-#include <sys/types.h>
-#include <csignal>
 #include <tbb/global_control.h>
-#include <unistd.h>
 
 #include "render/pipeline.h"
 #include "scene/scene_error.h"
+#include "stack/temp_files.h"
 
 namespace skypol::render {
 namespace {
@@ -33,7 +30,7 @@ std::string seconds_text(double v) {
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 void write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
+  const fs::path tmp = stack::temp_name(path.string());
   {
     std::ofstream out(tmp, std::ios::binary);
     out << text;
@@ -50,24 +47,6 @@ void write_atomically(const fs::path& path, const std::string& text) {
     fs::remove(tmp, ec);
     throw scene::SceneError(scene::FileLoc{path.string(), 0, 0}, "cannot write the manifest: " + ec.message());
   }
-}
-
-// Leftovers of runs that were killed mid-write: stacks and the manifest are written as
-// NAME.tmp-PID and renamed (stack_io.h), so a killed run leaves NAME.tmp-PID behind. One scan of
-// the folder maps each NAME to its leftovers; a leftover is stale when no process PID lives on
-// this machine (a shard's variants are written by that shard's run only).
-std::map<std::string, std::vector<fs::path>> stale_temporaries(const fs::path& dir) {
-  std::map<std::string, std::vector<fs::path>> out;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string name = e.path().filename().string();
-    const auto at = name.rfind(".tmp-");
-    if (at == std::string::npos) continue;
-    const std::string pid = name.substr(at + 5);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
-    out[name.substr(0, at)].push_back(e.path());
-  }
-  return out;
 }
 
 void remove_all(const std::vector<fs::path>& paths) {
@@ -98,7 +77,9 @@ SweepReport run_sweep(const scene::Sweep& sweep, const SweepOptions& options) {
   if (ec || !fs::is_directory(dir)) {
     throw scene::SceneError(scene::FileLoc{options.out_dir, 0, 0}, "cannot create the output folder" + (ec ? ": " + ec.message() : ""));
   }
-  std::map<std::string, std::vector<fs::path>> stale = stale_temporaries(dir);
+  // Leftovers of runs killed mid-write (NAME.tmp-HOST-PID of this host's dead processes,
+  // stack/temp_files.h): one scan of the folder maps each NAME to its leftovers.
+  std::map<std::string, std::vector<fs::path>> stale = stack::stale_temporaries(dir);
   remove_all(stale["manifest.jsonl"]);
   write_atomically(dir / "manifest.jsonl", manifest);
   report.check_seconds = since(t_check);

@@ -1,7 +1,11 @@
 // The [sensor] section: a division-of-focal-plane polarization sensor (camera/dofp_sensor.h).
 // Its size is the camera's (after binning); a preset gives the noise figures, keys override them.
 #include <array>
+#include <cstdint>
 #include <limits>
+#include <vector>
+
+#include "camera/dofp_sensor.h"
 
 #include "camera/presets.h"
 #include "scene/scene.h"
@@ -70,6 +74,24 @@ SensorSpec read_sensor(Fields& f, const CameraSpec& camera_spec) {
     const std::string msg = e.what();
     const std::string field = msg.substr(0, msg.find_first_of(" :"));
     f.fail(f.has(field) ? std::string_view(field) : std::string_view("preset"), msg);
+  }
+  // What only the sensor stage would find, found here before any work: the demosaic's demands on
+  // the polarizer angles (nominal needs 0/45/90/135; calibrated needs angles that determine S1
+  // and S2), checked by demosaicing a blank 4x4 mosaic of the same sensor.
+  camera::DofpSensor probe = d;
+  probe.width = probe.height = 4;
+  probe.color_filter = camera::ColorFilter::none;
+  try {
+    const std::vector<std::uint16_t> blank(16, 0);
+    (void)camera::demosaic_bilinear(probe, blank, s.demosaic);
+  } catch (const std::invalid_argument& e) {
+    f.fail(f.has("mosaic_deg") ? "mosaic_deg" : f.has("demosaic") ? "demosaic" : "preset",
+           std::string(e.what()) + (s.demosaic == camera::Demosaic::calibrated ? " (demosaic = \"calibrated\")"
+                                                                               : " (demosaic = \"nominal\")"));
+  }
+  if (d.color_filter != camera::ColorFilter::none && (d.width < 4 || d.height < 4)) {
+    f.fail("color_filter", "a colour sensor needs an image of at least 4x4 pixels (the camera's is " +
+                               std::to_string(d.width) + "x" + std::to_string(d.height) + ")");
   }
   return s;
 }

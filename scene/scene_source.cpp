@@ -17,8 +17,11 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string read_text(const std::string& path, const FileLoc& where, const std::string& what) {
+  // The error_code overloads: a name the file system refuses (too long, a component that is a
+  // file) is the user's bad path, reported at `where`, not a filesystem_error.
+  std::error_code ec;
   std::ifstream in(path, std::ios::binary);
-  if (!in || fs::is_directory(path)) throw SceneError(where, what);
+  if (!in || fs::is_directory(path, ec)) throw SceneError(where, what);
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
@@ -75,7 +78,11 @@ struct Resolver {
       fs::path path(name);
       if (path.is_relative()) path = folder_of(file) / path;
       path = path.lexically_normal();
-      const fs::path identity = fs::weakly_canonical(path);
+      std::error_code ec;
+      const fs::path identity = fs::weakly_canonical(path, ec);
+      if (ec) {
+        throw SceneError(at, "key 'include': cannot open included file '" + name + "': " + ec.message());
+      }
       if (std::find(chain.begin(), chain.end(), identity) != chain.end()) {
         std::string cycle;
         for (const fs::path& p : chain) cycle += p.filename().string() + " -> ";
@@ -119,7 +126,9 @@ toml::table override_table(const Override& o) {
 
 SceneSource assemble(const std::string& own_text, const std::string& file, const std::vector<Override>& overrides) {
   Resolver resolver;
-  resolver.chain.push_back(fs::weakly_canonical(fs::path(file)));
+  std::error_code ec;
+  const fs::path identity = fs::weakly_canonical(fs::path(file), ec);
+  resolver.chain.push_back(ec ? fs::path(file) : identity);
   SceneSource source;
   source.file = file;
   source.root = resolver.resolve(parse_toml(own_text, file), file);

@@ -241,6 +241,7 @@ Sweep parse_sweep(const std::string& text, const std::string& file_name) {
   fs::path base(top.required_string("base"));
   if (base.is_relative()) base = fs::path(file_name).parent_path() / base;
   sweep.base = base.lexically_normal().string();
+  sweep.base_where = top.loc("base");
   if (const toml::node* set = top.node("set")) {
     if (!set->is_table()) top.fail("set", "expected a table of scene keys and values");
     collect_set(*set->as_table(), "", file_name, sweep);
@@ -301,7 +302,11 @@ Variant make_variant(const Sweep& sweep, std::size_t index, const std::vector<Ov
   }
   for (const Override& o : extra) {
     for (const SweepAxis& a : sweep.axes) {
-      if (a.key == o.key) throw SceneError(FileLoc{o.origin, 0, 0}, "key '" + o.key + "' is a sweep axis; it cannot also be set");
+      if (a.key == o.key) {
+        throw SceneError(FileLoc{o.origin, 1, 1}, "key '" + o.key + "': the command line's " + o.origin +
+                                                      " cannot set a sweep axis (axis '" + a.key + "' at " +
+                                                      a.where.str() + ")");
+      }
     }
     overrides.push_back(o);
     where.emplace_back(FileLoc{o.origin, 0, 0}, "");
@@ -323,6 +328,10 @@ Variant make_variant(const Sweep& sweep, std::size_t index, const std::vector<Ov
     const std::shared_ptr<const camera::Camera> cam = build_camera(v.scene.camera);
     v.truth = make_truth(v.scene, *cam, v.scene.times.front());
   } catch (const SceneError& e) {
+    // The base scene itself cannot be read: that is the sweep file's `base` key.
+    if (e.where().file == sweep.base && e.where().line == 0 && sweep.base_where.line > 0) {
+      throw SceneError(sweep.base_where, "key 'base': cannot open the base scene '" + sweep.base + "'");
+    }
     for (std::size_t i = 0; i < overrides.size(); ++i) {
       if (e.where().file == overrides[i].origin && !where[i].second.empty()) rethrow_at(e, where[i].first, where[i].second);
     }

@@ -29,6 +29,7 @@ struct SweepAxis {
 struct Sweep {
   std::string file;                 // the sweep file as given
   std::string base;                 // the base scene, resolved against the sweep file's folder
+  FileLoc base_where;               // where `base` is written (an unreadable base is reported there)
   std::vector<Override> set;        // [set]: the same for every variant
   std::vector<FileLoc> set_where;   // where each [set] entry is written
   std::vector<SweepAxis> axes;      // in the order written; the last one varies fastest

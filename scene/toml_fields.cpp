@@ -63,6 +63,9 @@ FileLoc Fields::loc(std::string_view key) const {
   const toml::source_region& src = n ? n->source() : table_->source();
   // A node merged in from an included file or a --set override carries its own origin.
   const std::string& file = src.path && !src.path->empty() ? *src.path : file_;
+  // The root of a scene assembled from includes has no source region: a key missing there (a
+  // whole section) is reported at the file's first line, so that every error has a line.
+  if (src.begin.line == 0) return FileLoc{file, 1, 1};
   return FileLoc{file, static_cast<int>(src.begin.line), static_cast<int>(src.begin.column)};
 }
 

@@ -121,4 +121,8 @@ def check(r, g, report, figdir):
             need(os.path.getsize(path) < 200_000, f"figure {name} is {os.path.getsize(path)} bytes (> 200 kB)")
         need(name + ".png" in text, f"report does not show {name}")
     need(re.search(r"\bnan\b|\binf\b", text, re.IGNORECASE) is None, "report contains NaN or Inf")
+    # Files are named relative to the repository: the generating machine's absolute path means
+    # nothing to a reader (docs/reproduction.md once named /work/main/scenes/…).
+    root = os.path.abspath(g["ROOT"])
+    need(root not in text, f"report names a file by its absolute path under {root}")
     return fails

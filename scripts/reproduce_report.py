@@ -29,6 +29,21 @@ def shortest_window(stats, method, target):
     return None, []
 
 
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def repo_relative(path):
+    """A file named as the reader's checkout names it: relative to the repository when it is inside
+    it (the machine that generated the report had its own absolute path), else as given."""
+    p = os.path.abspath(path)
+    try:
+        if os.path.commonpath([p, REPO]) == REPO:
+            return os.path.relpath(p, REPO)
+    except ValueError:
+        pass
+    return path
+
+
 def small_angle(x):
     return "–" if x is None else (f"{x:.1e}" if 0 < x < 1e-3 else f"{x:.3f}")
 
@@ -202,7 +217,7 @@ def render(r, g):
 
     # ---------------------------------------------------------------------------------------------
     add("## SkyPole (PNAS 2023)\n")
-    add(f"Set-up: `{st['scene']}` — Marseille ({float(st['latitude_deg']):.5f} N, {float(st['longitude_deg']):.5f} E), "
+    add(f"Set-up: `{repo_relative(st['scene'])}` — Marseille ({float(st['latitude_deg']):.5f} N, {float(st['longitude_deg']):.5f} E), "
         f"the paper's day, a zenith camera with the 1.8 mm 185° equidistant fisheye on the IMX250 sensor — rendered "
         f"on a {st['width']} × {st['height']} grid ({float(st['scale']):g} of the sensor's 2448 × 2048 pixels: "
         f"the lens rescaled, {float(st['deg_per_px']):.2f}° per pixel; the paper's DoLP images are 1224 × 1024 "

@@ -3,13 +3,16 @@
 #include "skypole/report.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "scene/json_text.h"
 #include "stack/oiio_module.h"
 #include "stack/stack_io.h"
+#include "stack/temp_files.h"
 #include "skypole/classic.h"
 #include "skypole/evaluate.h"
 
@@ -32,7 +35,9 @@ using scene::json_quoted;
 
 // The classic estimator's step images (the paper's Fig. 1D and Fig. 2) as one multi-channel EXR:
 // filtered.NN, difference.II-JJ, binary.II-JJ, sum, maximum. Written to a temporary name first.
-void write_intermediates(const ClassicImages& im, const std::string& path) {
+// Errors name the stack the images come from and the file, with the writer's own reason (OIIO
+// keeps an ImageOutput's errors on the object, not in OIIO::geterror()).
+void write_intermediates(const ClassicImages& im, const std::string& path, const std::string& stack_path) {
   std::vector<std::string> names;
   std::vector<const float*> planes;
   std::vector<std::vector<float>> converted;  // uint8 images as float
@@ -64,15 +69,20 @@ void write_intermediates(const ClassicImages& im, const std::string& path) {
   }
   std::string thresholds;
   for (float t : im.thresholds) thresholds += (thresholds.empty() ? "" : " ") + std::to_string(t);
-  const std::string tmp = path + ".tmp";
+  const std::string what = stack_path + ": cannot write the classic intermediates to " + path + ": ";
+  const std::string tmp = stack::temp_name(path);
   const std::string error = stack::oiio::write_float_image(
       path, tmp, im.width, im.height, names, pixels.data(),
       {{"compression", "zip"}, {"skypol:classic_thresholds", thresholds}});
   if (!error.empty()) {
     std::remove(tmp.c_str());
-    throw std::invalid_argument("cannot write " + path + ": " + error);
+    throw std::invalid_argument(what + error);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::invalid_argument("cannot rename to " + path);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(tmp.c_str());
+    throw std::invalid_argument(what + why);
+  }
 }
 
 void print_json(const std::string& path, const stack::Stack& stack, const PoleEstimate& e,
@@ -146,7 +156,7 @@ void print_estimate(const EstimateRequest& r) {
       p.input = r.input;
       p.keep_intermediates = true;
       ClassicResult c = estimate_classic(stack, p);
-      write_intermediates(c.images, r.intermediates);
+      write_intermediates(c.images, r.intermediates, r.path);
       e = std::move(c.estimate);
     } else {
       try {

@@ -12,6 +12,7 @@
 #include "stack/oiio_module.h"
 #include "stack/polarization_math.h"
 #include "scene/scene.h"
+#include "stack/temp_files.h"
 
 namespace skypol::stack {
 namespace {
@@ -278,12 +279,21 @@ std::string preview_file_name(std::size_t index, const std::string& iso_time) {
 }
 
 PreviewFolder::PreviewFolder(std::string folder) : folder_(std::move(folder)) {
-  const fs::path f(folder_);
-  temp_ = (f.parent_path() / ("." + f.filename().string() + ".tmp")).string();
+  // The folder name without a trailing slash ("out/p/" names the folder "p").
+  fs::path f = fs::path(folder_).lexically_normal();
+  if (!f.has_filename()) f = f.parent_path();
+  // .NAME.tmp-HOST-PID (stack/temp_files.h): two renders to one path never share it, and a
+  // killed render's folder is removed by the next one on this host.
+  const std::string hidden = (f.parent_path() / ("." + f.filename().string())).string();
+  remove_stale_temporaries(hidden);
+  temp_ = temp_name(hidden);
   std::error_code ec;
-  fs::remove_all(temp_, ec);
   fs::create_directories(temp_, ec);
-  if (ec) throw std::runtime_error("cannot create " + temp_ + ": " + ec.message());
+  if (ec || !fs::is_directory(temp_, ec)) {
+    // A folder the user cannot write into (read-only, a parent that is a file) is the user's.
+    throw scene::SceneError(scene::FileLoc{folder_, 0, 0},
+                            "cannot write the previews: cannot create " + temp_ + (ec ? ": " + ec.message() : ""));
+  }
 }
 
 PreviewFolder::~PreviewFolder() {
@@ -305,7 +315,7 @@ void PreviewFolder::commit() {
   std::error_code ec;
   fs::remove_all(folder_, ec);  // previews of an earlier render of the same stack
   fs::rename(temp_, folder_, ec);
-  if (ec) throw std::runtime_error("cannot move the previews to " + folder_ + ": " + ec.message());
+  if (ec) throw scene::SceneError(scene::FileLoc{folder_, 0, 0}, "cannot move the previews there: " + ec.message());
   committed_ = true;
 }
 

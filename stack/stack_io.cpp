@@ -28,6 +28,7 @@
 
 #include "scene/scene.h"
 #include "scene/scene_error.h"
+#include "stack/temp_files.h"
 
 namespace skypol::stack {
 namespace {
@@ -35,6 +36,10 @@ namespace {
 // The mask is a coverage fraction (half would round 1/spp steps) and raw holds 12–16-bit counts
 // (half is exact only to 2048): both stay float whatever the pixel type.
 bool stays_float(const std::string& channel) { return channel == "mask" || channel == "raw"; }
+
+// Half's largest finite value. A half stack clamps to ±kHalfMax rather than writing ±Inf (the sun
+// disc's radiance, ~2e5, is beyond it); the header says so (skypol:halfClamp, docs/exr-format.md).
+constexpr float kHalfMax = 65504.0f;
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
@@ -103,6 +108,7 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   put<Imf::StringAttribute>(h, "skypol:skyModel", sh.sky_model);
   put<Imf::StringAttribute>(h, "skypol:camera", sh.camera_description);
   put<Imf::StringAttribute>(h, "skypol:scene", sh.scene_text);
+  if (half) put<Imf::DoubleAttribute>(h, "skypol:halfClamp", static_cast<double>(kHalfMax));
   return h;
 }
 
@@ -178,7 +184,8 @@ void write_stack_reusing(const std::string& path, const std::vector<scene::Truth
   const fs::path target(path);
   std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  remove_stale_temporaries(path);  // a killed render's leftovers (stack/temp_files.h)
+  const std::string tmp = temp_name(path);
   try {
     std::vector<Imf::Header> headers;
     headers.reserve(truths.size());
@@ -196,7 +203,9 @@ void write_stack_reusing(const std::string& path, const std::vector<scene::Truth
           const std::vector<float>& data = frame.channel(c);
           if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
           if (options.half && !stays_float(c)) {
-            half_buffers[k].assign(data.begin(), data.end());
+            std::vector<Imath::half>& hb = half_buffers[k];
+            hb.resize(data.size());
+            for (std::size_t j = 0; j < data.size(); ++j) hb[j] = Imath::half(std::clamp(data[j], -kHalfMax, kHalfMax));
             fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers[k].data()), sizeof(Imath::half),
                                     sizeof(Imath::half) * static_cast<std::size_t>(width)));
           } else {

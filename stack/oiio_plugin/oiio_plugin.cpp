@@ -1,5 +1,8 @@
 // skypol_oiio.so: the OpenImageIO calls of the stack room, in a module that the executable loads
 // only when a command needs them (stack/oiio_module.h says why).
+#include <cerrno>
+#include <cstring>
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -41,9 +44,16 @@ std::string float_image(const std::string& format_path, const std::string& open_
   spec.channelnames = channels;
   for (const auto& [name, value] : attributes) spec.attribute(name, value);
   auto out = OIIO::ImageOutput::create(format_path);
-  if (!out || !out->open(open_path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close()) {
+  if (!out) {
     const std::string e = OIIO::geterror();
-    return e.empty() ? "cannot write" : e;
+    return e.empty() ? "no writer for this file type" : e;
+  }
+  if (!out->open(open_path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close()) {
+    // OpenImageIO keeps an open or write failure on the output object, not in its global error.
+    std::string e = out->geterror();
+    if (e.empty()) e = OIIO::geterror();
+    if (e.empty()) e = std::strerror(errno);
+    return e;
   }
   return {};
 }

@@ -92,7 +92,7 @@ TEST_CASE("scripts/sweep-parallel renders a sweep with GNU parallel", "[cli][swe
   const Result bad = sh(kSource + "/scripts/sweep-parallel " + kTiny + " " + (dir.path / "bad").string() +
                         " --set 'camera.heading_deg=30'");
   CHECK(bad.code == 2);
-  CHECK_THAT(bad.out, Catch::Contains("key 'camera.heading_deg' is a sweep axis"));
+  CHECK_THAT(bad.out, Catch::Contains("--set:1:1: error: key 'camera.heading_deg': the command line's --set cannot set a sweep axis"));
   CHECK_FALSE(fs::exists(dir.path / "bad"));
 }
 

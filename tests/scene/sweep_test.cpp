@@ -7,11 +7,13 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "scene/json_text.h"
 #include "stack/stack_io.h"
+#include "stack/temp_files.h"
 #include "render/sweep_run.h"
 #include "scene/sweep.h"
 
@@ -154,6 +156,55 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK_THAT(manifest[1], Catch::Contains("\"latitude_deg\": -20, \"longitude_deg\": 5.40336"));
   CHECK_THAT(manifest[1], Catch::Contains("\"heading_deg\": 30, \"tilt_deg\": 10, \"roll_deg\": 0, \"pole\": \"south\""));
   CHECK_THAT(manifest[1], Catch::Contains("\"frames\": 3, \"first_time\": \"2022-09-23T08:00:00Z\""));
+  // Every field of the line against a value computed here: the scene and the sweep give the site,
+  // orientation and times; the pole is the south celestial pole at 20 deg elevation; its pixel
+  // is where the variant's camera (built from the base scene with the same keys) images it.
+  {
+    const std::string& m = manifest[1];
+    auto field = [&m](const std::string& key) {
+      const auto at = m.find("\"" + key + "\": ");
+      REQUIRE(at != std::string::npos);
+      const auto b = at + key.size() + 4;
+      const auto e = m[b] == '[' ? m.find(']', b) + 1 : m.find_first_of(",}", b);
+      return m.substr(b, e - b);
+    };
+    auto numbers = [](std::string t) {
+      std::vector<double> v;
+      for (char& c : t) if (c == '[' || c == ']' || c == ',') c = ' ';
+      std::istringstream is(t);
+      for (double x; is >> x;) v.push_back(x);
+      return v;
+    };
+    CHECK(field("index") == "1");
+    CHECK(std::stod(field("latitude_deg")) == -20);
+    CHECK(std::stod(field("longitude_deg")) == 5.40336);
+    CHECK(std::stod(field("height_m")) == 0);
+    CHECK(std::stod(field("heading_deg")) == 30);
+    CHECK(std::stod(field("tilt_deg")) == 10);
+    CHECK(std::stod(field("roll_deg")) == 0);
+    CHECK(field("pole") == "\"south\"");
+    const std::vector<double> pole = numbers(field("pole_enu"));
+    REQUIRE(pole.size() == 3);
+    const double el = 20 * M_PI / 180;
+    CHECK(pole[0] == Approx(0).margin(1e-9));
+    CHECK(pole[1] == Approx(-std::cos(el)).epsilon(1e-9));
+    CHECK(pole[2] == Approx(std::sin(el)).epsilon(1e-9));
+    const Scene variant_scene = load_scene((d.path / "base.toml").string(),
+                                           {Override{"site.latitude_deg", "-20"}, Override{"camera.tilt_deg", "10"},
+                                            Override{"camera.heading_deg", "30"}});
+    const auto cam = build_camera(variant_scene.camera);
+    const std::optional<Eigen::Vector2d> px = cam->project(Eigen::Vector3d(0, -std::cos(el), std::sin(el)));
+    REQUIRE(px.has_value());
+    const std::vector<double> pixel = numbers(field("pole_pixel"));
+    REQUIRE(pixel.size() == 2);
+    CHECK(pixel[0] == Approx(px->x()).margin(1e-4));
+    CHECK(pixel[1] == Approx(px->y()).margin(1e-4));
+    CHECK(field("frames") == "3");
+    CHECK(field("first_time") == "\"2022-09-23T08:00:00Z\"");
+    CHECK(field("last_time") == "\"2022-09-23T14:00:00Z\"");
+    CHECK(field("site.latitude_deg") == "-20");
+    CHECK(field("camera.tilt_deg") == "10");
+  }
   CHECK_THAT(manifest[2], Catch::Contains("\"pole\": \"north\""));
   // Exactly the shard's stack exists, and it is variant 1: its headers carry that truth.
   std::set<std::string> files;
@@ -176,13 +227,18 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK(dry.rendered == 0);
   o.dry_run = false;
 
-  // Leftovers of a killed run (NAME.tmp-PID) are removed when PID is gone; a live writer's stay.
+  // Leftovers of a killed run on this host (NAME.tmp-HOST-PID) are removed when PID is gone; a live
+  // writer's stay, and so do another host's and the host-less ones of older runs (no one here can
+  // tell whether their writer lives).
   const std::string variant2 = manifest[2].substr(manifest[2].find("\"file\": \"") + 9, 19);
   const pid_t dead = ::fork();
   if (dead == 0) ::_exit(0);
   ::waitpid(dead, nullptr, 0);
-  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))) << "half a stack";
-  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(::getppid()))) << "being written";
+  const std::string here = ".tmp-" + host_name() + "-";
+  std::ofstream(d.path / "out" / (variant2 + here + std::to_string(dead))) << "half a stack";
+  std::ofstream(d.path / "out" / (variant2 + here + std::to_string(::getppid()))) << "being written";
+  std::ofstream(d.path / "out" / (variant2 + ".tmp-other-node-" + std::to_string(dead))) << "another host's";
+  std::ofstream(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))) << "an older run's";
 
   // Resume: the finished variant is skipped; the whole sweep completes the rest.
   const auto mtime = fs::last_write_time(d.path / "out" / name);
@@ -192,8 +248,10 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
   CHECK(second.rendered == 3);
   CHECK(fs::last_write_time(d.path / "out" / name) == mtime);
   CHECK(lines_of(d.path / "out" / "manifest.jsonl") == manifest);  // the same bytes from every run
-  CHECK_FALSE(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))));
-  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(::getppid()))));
+  CHECK_FALSE(fs::exists(d.path / "out" / (variant2 + here + std::to_string(dead))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + here + std::to_string(::getppid()))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-other-node-" + std::to_string(dead))));
+  CHECK(fs::exists(d.path / "out" / (variant2 + ".tmp-" + std::to_string(dead))));
   const SweepReport third = run_sweep(s, o);
   CHECK(third.rendered == 0);
   CHECK(third.skipped == 4);
@@ -235,7 +293,9 @@ TEST_CASE("sweep errors are reported at the sweep file's entry", "[sweep][errors
   CHECK_THAT(error_of(d, "base = \"base.toml\"\n[axis]\n\"camera.heading_deg\" = [0]\n"),
              Catch::StartsWith(sweep + ":2:2: error: unknown key 'axis' (did you mean 'axes'?)"));
   CHECK_THAT(error_of(d, "[axes]\n\"camera.heading_deg\" = [0]\n"), Catch::Contains("missing key 'base'"));
-  CHECK_THAT(error_of(d, "base = \"nope.toml\"\n"), Catch::StartsWith((d.path / "nope.toml").string() + ": error: cannot open scene file"));
+  CHECK_THAT(error_of(d, "base = \"nope.toml\"\n"),
+             Catch::StartsWith(sweep + ":1:8: error: key 'base': cannot open the base scene '" +
+                               (d.path / "nope.toml").string() + "'"));
   CHECK_THAT(error_of(d, "base = \"base.toml\"\n[axes]\n\"camera.heading_deg\" = 30\n"),
              Catch::StartsWith(sweep + ":3:24: error: axis 'camera.heading_deg': expected a list of values"));
   CHECK_THAT(error_of(d, "base = \"base.toml\"\n[axes]\n\"camera.heading_deg\" = []\n"), Catch::Contains("no values"));

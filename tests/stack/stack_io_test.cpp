@@ -2,13 +2,23 @@
 // nothing behind; a file that is not a skypol stack is refused with its name.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <thread>
 
 #include "render/pipeline.h"
+#include "render/renderer.h"
+#include "scene/truth.h"
 #include "stack/stack_io.h"
+#include "stack/temp_files.h"
+
+#include <OpenImageIO/imageio.h>
+#include <limits>
+#include <set>
+#include <sys/wait.h>
+#include <unistd.h>
 
 using namespace skypol;
 namespace fs = std::filesystem;
@@ -55,18 +65,49 @@ TEST_CASE("a rendered stack reads back with its pixels and truth", "[stack]") {
   CHECK(f.width == 70);
   CHECK(f.height == 60);
   for (const char* c : {"S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y", "mask"}) CHECK(f.has(c));
+  // Every truth field against a value computed here from the scene, not read from the file: the
+  // instant and site from the scene text, the sun from ERFA, the orientation and the pole's pixel
+  // from the camera the scene builds.
+  const sky::Instant when = sky::parse_iso8601("2023-01-10T02:30:00Z");
+  CHECK(f.truth.time.unix_seconds == when.unix_seconds);
   CHECK(sky::format_iso8601(f.truth.time) == "2023-01-10T02:30:00Z");
   CHECK(f.truth.site.latitude_deg == -33.8568);
+  CHECK(f.truth.site.longitude_deg == 151.2153);
+  CHECK(f.truth.site.height_m == 0);
   CHECK(f.truth.heading_deg == 200);
   CHECK(f.truth.tilt_deg == 5);
+  CHECK(f.truth.roll_deg == 0);
   CHECK_FALSE(f.truth.pole_is_north);  // Sydney sees the south celestial pole
-  CHECK(f.truth.pole_enu.z() == Approx(std::sin(33.8568 * M_PI / 180)));
-  CHECK(f.truth.pole_enu.y() < 0);
-  // The sun in the header is the one ERFA gives for that instant.
-  const sky::Sun sun = sky::sun_position(scene.site, f.truth.time);
+  const Eigen::Vector3d pole(0, -std::cos(33.8568 * M_PI / 180), std::sin(33.8568 * M_PI / 180));
+  CHECK((f.truth.pole_enu - pole).norm() < 1e-12);
+  // The sun in the header is the one ERFA gives for that instant (with the scene's options).
+  const sky::Sun sun = sky::sun_position(scene.site, when, scene.sun_options);
   CHECK(f.truth.sun.azimuth == Approx(sun.azimuth).epsilon(1e-12));
+  CHECK(f.truth.sun.elevation == Approx(sun.elevation).epsilon(1e-12));
   CHECK(f.truth.sun.declination == Approx(sun.declination).epsilon(1e-12));
-  // The pixels equal a fresh render of that frame.
+  CHECK(f.truth.sun.hour_angle == Approx(sun.hour_angle).epsilon(1e-12));
+  CHECK((f.truth.sun.direction - sun.direction).norm() < 1e-12);
+  // ENU from azimuth and elevation (docs/conventions.md), a second, independent check.
+  const Eigen::Vector3d toward(std::sin(sun.azimuth) * std::cos(sun.elevation),
+                               std::cos(sun.azimuth) * std::cos(sun.elevation), std::sin(sun.elevation));
+  CHECK((f.truth.sun.direction - toward).norm() < 1e-9);
+  const std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  CHECK((f.truth.world_from_camera - cam->world_from_camera()).norm() < 1e-12);
+  const std::optional<Eigen::Vector2d> pole_px = cam->project(pole);
+  REQUIRE(pole_px.has_value());
+  REQUIRE(f.truth.pole_pixel.has_value());
+  CHECK((*f.truth.pole_pixel - *pole_px).norm() < 1e-9);
+  // The pixels equal a fresh render of that frame, made here in memory.
+  render::RenderOptions ro;
+  ro.bands = scene.render.bands;
+  ro.channels = scene.output.channels;
+  const render::Renderer renderer(cam, ro);
+  const stack::Frame fresh = renderer.render(*scene::build_sky(scene.sky), sun);
+  for (const char* c : {"S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y", "mask"}) {
+    INFO(c);
+    CHECK(fresh.channel(c) == f.channel(c));
+  }
+  // Reading only some channels reads those alone, with the same values.
   const stack::Frame again = stack::read_stack(path, {"DoLP.Y"}).frames[1];
   CHECK(again.channels.size() == 1);
   CHECK(again.channel("DoLP.Y") == f.channel("DoLP.Y"));
@@ -89,6 +130,101 @@ TEST_CASE("a write that fails leaves no file behind", "[stack][errors]") {
   }));
   CHECK_FALSE(fs::exists(path));
   CHECK(fs::is_empty(dir));  // no temporary either
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a half stack clamps values beyond half's range to +-65504 and says so", "[stack][half]") {
+  // The sun disc at the zenith has a radiance of ~2e5, beyond half's largest value (65504): the
+  // writer clamps (docs/exr-format.md) instead of writing +Inf.
+  const fs::path dir = temp_dir();
+  const std::string path = (dir / "half.exr").string();
+  const scene::Scene scene = scene::parse_scene(kScene, "sydney.toml");
+  const std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  const int w = cam->width(), h = cam->height();
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  std::vector<scene::Truth> truths{scene::make_truth(scene, *cam, scene.times[0])};
+  stack::StackHeader header;
+  header.bands = {"Y"};
+  header.camera_description = scene.camera.description;
+  header.scene_text = kScene;
+  header.sky_model = "test";
+  stack::WriteOptions wo;
+  wo.half = true;
+  stack::write_stack(path, truths, {"S0.Y", "S1.Y", "mask"}, w, h, header, wo, [&](std::size_t) {
+    stack::Frame f;
+    f.width = w;
+    f.height = h;
+    f.channels["S0.Y"] = std::vector<float>(n, 0.5f);
+    f.channels["S0.Y"][7] = 2e5f;
+    f.channels["S0.Y"][8] = std::numeric_limits<float>::max();
+    f.channels["S1.Y"] = std::vector<float>(n, -0.25f);
+    f.channels["S1.Y"][7] = -1e6f;
+    f.channels["mask"] = std::vector<float>(n, 1.0f);
+    f.channels["mask"][9] = 1e6f;  // the mask stays float: never clamped
+    return f;
+  });
+  const stack::Stack st = stack::read_stack(path);
+  const stack::Frame& f = st.frames.at(0);
+  for (const auto& [name, values] : f.channels) {
+    for (float v : values) REQUIRE(std::isfinite(v));
+  }
+  CHECK(f.channel("S0.Y")[7] == 65504.0f);
+  CHECK(f.channel("S0.Y")[8] == 65504.0f);
+  CHECK(f.channel("S0.Y")[0] == 0.5f);
+  CHECK(f.channel("S1.Y")[7] == -65504.0f);
+  CHECK(f.channel("S1.Y")[0] == -0.25f);
+  CHECK(f.channel("mask")[9] == 1e6f);
+  auto in = OIIO::ImageInput::open(path);
+  REQUIRE(in);
+  CHECK(in->spec().get_float_attribute("skypol:halfClamp", 0) == 65504.0f);
+  in.reset();
+  // A float stack keeps every value and carries no such attribute.
+  wo.half = false;
+  stack::write_stack(path, truths, {"S0.Y"}, w, h, header, wo, [&](std::size_t) {
+    stack::Frame g;
+    g.width = w;
+    g.height = h;
+    g.channels["S0.Y"] = std::vector<float>(n, 2e5f);
+    return g;
+  });
+  CHECK(stack::read_stack(path).frames.at(0).channel("S0.Y")[3] == 2e5f);
+  auto in2 = OIIO::ImageInput::open(path);
+  REQUIRE(in2);
+  CHECK(in2->spec().get_float_attribute("skypol:halfClamp", 0) == 0.0f);
+  in2.reset();
+  fs::remove_all(dir);
+}
+
+TEST_CASE("temporaries carry host and PID; only this host's dead leftovers are stale", "[stack][temporaries]") {
+  const fs::path dir = temp_dir() / "tmpnames";
+  fs::create_directories(dir);
+  const std::string host = stack::host_name();
+  CHECK(host.find('/') == std::string::npos);
+  const std::string target = (dir / "a.exr").string();
+  CHECK(stack::temp_name(target) == target + ".tmp-" + host + "-" + std::to_string(::getpid()));
+  // A PID that surely belongs to no live process: a child that has exited and been reaped.
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  REQUIRE(child > 0);
+  ::waitpid(child, nullptr, 0);
+  const std::string dead = std::to_string(child), alive = std::to_string(::getpid());
+  for (const std::string& name : {"a.exr.tmp-" + host + "-" + dead, "a.exr.tmp-" + host + "-" + alive,
+                                  "a.exr.tmp-elsewhere-" + dead, "a.exr.tmp-" + dead, "b.exr.tmp-" + host + "-" + dead}) {
+    std::ofstream(dir / name) << "x";
+  }
+  fs::create_directories(dir / (".a-preview.tmp-" + host + "-" + dead));
+  const auto stale = stack::stale_temporaries(dir);
+  REQUIRE(stale.count("a.exr") == 1);
+  CHECK(stale.at("a.exr") == std::vector<fs::path>{dir / ("a.exr.tmp-" + host + "-" + dead)});
+  CHECK(stale.count("b.exr") == 1);
+  CHECK(stale.count(".a-preview") == 1);
+  CHECK(stale.size() == 3);
+  stack::remove_stale_temporaries(target);
+  stack::remove_stale_temporaries((dir / ".a-preview").string());
+  std::set<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.insert(e.path().filename().string());
+  CHECK(left == std::set<std::string>{"a.exr.tmp-" + host + "-" + alive, "a.exr.tmp-elsewhere-" + dead,
+                                      "a.exr.tmp-" + dead, "b.exr.tmp-" + host + "-" + dead});
   fs::remove_all(dir);
 }
 
