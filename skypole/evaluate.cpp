@@ -213,12 +213,17 @@ PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
 }  // namespace
 
 const std::vector<MethodCalibration>& method_calibrations() {
-  // inflation: σ factor measured by `skypol tradeoff calibration` (docs/benchmarks.md,
-  // "Calibration") on seed 1, so that the 95 % cone holds the truth 95 % of the time; the checks
-  // use another seed. floor_deg: no method states less than this.
+  // inflation: the factor on the jackknife σ that makes the 95 % cone hold the truth in 95 % of
+  // the valid answers, measured by `skypol tradeoff calibration --seed 1 --count 20 --binning 16
+  // --max-uncertainty inf` (column factor_for_95; docs/benchmarks.md, section 7); the checks use
+  // seed 2. Never below 1 (invariance measured 0.21 on its 2 valid answers: too few to shrink).
+  // The large factors are the honest price of errors every frame shares (static clouds, Berry
+  // skies for the Rayleigh fit), which the jackknife cannot see: with them, those methods mostly
+  // decline under a bound instead of answering wrongly. floor_deg: no method states less.
+  // 20 scenes is a small sample: these factors are provisional.
   static const std::vector<MethodCalibration> c = {
-      {"classic", 1.0, 0.05},    {"great_circle", 1.0, 0.05},         {"invariance", 1.0, 0.05},
-      {"sun_vector", 1.0, 0.05}, {"sun_vector_ephemeris", 1.0, 0.05}, {"sun_dolp", 1.0, 0.05},
+      {"classic", 41.0, 0.05},   {"great_circle", 11.6, 0.05},        {"invariance", 1.0, 0.05},
+      {"sun_vector", 6.0, 0.05}, {"sun_vector_ephemeris", 3.3, 0.05}, {"sun_dolp", 32.6, 0.05},
   };
   return c;
 }

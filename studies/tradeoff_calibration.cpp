@@ -3,7 +3,7 @@
 // 11 h with a frame every 2–30 min, any heading, tilts up to 15°, every analytic lens model, the
 // mono or colour DoFP sensor at various exposures and gains (or none), 0–50 % cloud, the Rayleigh
 // and Berry skies — each rendered small (binning 8: 306×256; --small: binning 16, 153×128) and
-// given to every method and to auto. Per stack and method: the error against the truth, the
+// given to every method and to auto, with --max-uncertainty (default 5°: StudyOptions). Per stack and method: the error against the truth, the
 // stated σ and 95 % cone. Per method: the yield (share of valid answers), the lie rate (valid
 // with error > 5°, or > 5σ), the coverage (share of valid answers whose 95 % cone holds the
 // truth), the error distribution, and the σ factor that would have made the coverage exactly
@@ -189,6 +189,8 @@ void study_calibration(const StudyOptions& o) {
     std::vector<double> errors, ratios;  // angular error; error / cone95
   };
   std::vector<std::string> methods = skypole::method_names();
+  skypole::InputOptions input;
+  input.max_uncertainty_deg = o.max_uncertainty_deg;
   std::vector<Acc> acc(methods.size());
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);
@@ -197,8 +199,8 @@ void study_calibration(const StudyOptions& o) {
     for (std::size_t m = 0; m < methods.size(); ++m) {
       skypole::PoleEstimate e;
       try {
-        e = methods[m] == "auto" ? skypole::combine_estimates(stack, {}, done)
-                                 : skypole::run_method(stack, methods[m]);
+        e = methods[m] == "auto" ? skypole::combine_estimates(stack, input, done)
+                                 : skypole::run_method(stack, methods[m], input);
       } catch (const std::invalid_argument& err) {
         e = skypole::PoleEstimate{};
         e.method = methods[m];
@@ -261,7 +263,7 @@ void study_calibration(const StudyOptions& o) {
   };
   Table summary({"method", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",
                  "median_error_deg", "p90_error_deg", "p95_error_deg", "max_error_deg", "factor_for_95",
-                 "seed", "binning"});
+                 "seed", "binning", "max_uncertainty_deg"});
   for (std::size_t m = 0; m < methods.size(); ++m) {
     const Acc& a = acc[m];
     summary.row()
@@ -279,7 +281,8 @@ void study_calibration(const StudyOptions& o) {
         .set("max_error_deg", quantile(a.errors, 1.0))
         .set("factor_for_95", quantile(a.ratios, 0.95))
         .set("seed", static_cast<int>(o.seed))
-        .set("binning", binning);
+        .set("binning", binning)
+        .set("max_uncertainty_deg", o.max_uncertainty_deg);
   }
   rows.write((std::filesystem::path(o.out_dir) / "calibration.csv").string());
   summary.write((std::filesystem::path(o.out_dir) / "calibration_summary.csv").string());

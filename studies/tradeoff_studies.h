@@ -19,6 +19,10 @@ struct StudyOptions {
   std::uint64_t seed = 2;
   int count = 0;
   int binning = 0;      // calibration: binning of the 2448×2048 sensor (0: 8, --small 16)
+  // calibration: the --max-uncertainty every method is run with (95 % cone, degrees; infinity:
+  // none). 5°: an answer the method itself says may be more than 5° off is declined, not counted
+  // as an answer, so that a lie (valid, > 5° off) is one the method did not warn of.
+  double max_uncertainty_deg = 5.0;
   bool progress = false;
 };
 

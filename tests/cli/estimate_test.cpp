@@ -90,7 +90,9 @@ TEST_CASE("estimate runs every method on a noisy southern stack; evaluate scores
   const std::string inter = (dir.path / "classic.exr").string();
   const Result ci = run("estimate " + stack + " --intermediates " + inter);
   INFO(ci.out);
-  REQUIRE(ci.code == 0);
+  // On this short noisy stack classic may decline (its answer does not survive the jackknife);
+  // its step images are written either way, and a decline says why.
+  CHECK((ci.code == 0 || ci.out.find("classic found no pole: ") != std::string::npos));
   CHECK(fs::exists(inter));
   CHECK(run("info " + inter).code == 2);  // not a stack: refused with a reason
 
