@@ -78,8 +78,12 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
     std::cout << m << ": error " << s.angular_error_deg << "°, cone95 " << e.cone95_deg << "°, σ bearing "
               << e.sigma_bearing_deg << "°, σ latitude " << e.sigma_latitude_deg << "°\n";
     CHECK(e.cone95_deg > 0);
-    CHECK(e.cone95_deg < 5);
     CHECK(s.angular_error_deg < 5 * e.sigma_deg + 0.05);  // not a lie
+    CHECK(s.angular_error_deg < e.cone95_deg);           // inside its own cone on an easy day
+    // The methods whose calibration factor is modest state a useful cone; classic, great_circle
+    // and sun_dolp carry the large factors their cloud and sky-model errors earned (evaluate.cpp).
+    if (m == "invariance" || m == "sun_vector" || m == "sun_vector_ephemeris" || m == "auto")
+      CHECK(e.cone95_deg < 5);
   }
 }
 
