@@ -27,6 +27,9 @@ void add_estimate(CLI::App& app) {
                   "Pixels lower than this (degrees, level frame) are ground and not used");
   est->add_option("--intermediates", a->request.intermediates,
                   "classic: write the step images (filtered, differences, binaries, sum, maximum) to this EXR");
+  est->add_option("--max-uncertainty", a->request.input.max_uncertainty_deg,
+                  "Largest 95 % cone (degrees) an answer may have; a method whose stated uncertainty is "
+                  "wider declines and says so (default: no bound)");
   est->add_flag("--json", a->request.json, "Print the result as JSON");
   est->callback([a] {
     a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);

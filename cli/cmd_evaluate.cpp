@@ -79,6 +79,9 @@ void add_evaluate(CLI::App& app) {
   ev->add_option("--summary", a->summary_csv, "Write the per-method summary to this CSV");
   ev->add_option("--band", a->input.band, "Band whose DoLP is used (default: B if present, else the first)");
   ev->add_option("--hemisphere", a->hemisphere, "automatic, north or south");
+  ev->add_option("--max-uncertainty", a->input.max_uncertainty_deg,
+                  "Largest 95 % cone (degrees) an answer may have; a method whose stated uncertainty is "
+                  "wider declines and says so (default: no bound)");
   ev->add_flag("-q,--quiet", a->quiet, "No per-stack progress on stderr");
   ev->callback([a] {
     a->input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
@@ -88,18 +91,28 @@ void add_evaluate(CLI::App& app) {
     for (std::size_t i = 0; i < stacks.size(); ++i) {
       const stack::Stack stack = stack::read_stack(stacks[i], skypole::estimator_channels(stacks[i]));
       if (stack.frames.empty()) throw std::invalid_argument(stacks[i] + ": the stack has no frames");
+      std::vector<skypole::PoleEstimate> done;  // auto combines these instead of running them again
       for (const std::string& m : methods) {
         skypole::EvaluationRow row;
         row.dataset = stacks[i];
         row.truth = stack.frames[0].truth;
         try {
-          row.estimate = skypole::run_method(stack, m, a->input);
+          const bool reuse = m == "auto" && std::all_of(skypole::method_names().begin(), skypole::method_names().end(),
+                                                        [&](const std::string& n) {
+                                                          return !skypole::used_by_auto(n) ||
+                                                                 std::any_of(done.begin(), done.end(), [&](const auto& d) {
+                                                                   return d.method == n;
+                                                                 });
+                                                        });
+          row.estimate = reuse ? skypole::combine_estimates(stack, a->input, done)
+                               : skypole::run_method(stack, m, a->input);
         } catch (const std::invalid_argument& e) {
           // Input this method cannot use (too few frames, …): counted as invalid, with the reason.
           row.estimate.method = m;
           row.estimate.valid = false;
           row.estimate.why_invalid = e.what();
         }
+        done.push_back(row.estimate);
         rows.push_back(std::move(row));
       }
       if (!a->quiet) std::fprintf(stderr, "[%zu/%zu] %s\n", i + 1, stacks.size(), stacks[i].c_str());

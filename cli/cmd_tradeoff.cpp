@@ -29,6 +29,9 @@ void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& whi
   meta.row().set("key", "date_utc").set("value", utc_now());
   meta.row().set("key", "studies").set("value", which);
   meta.row().set("key", "small").set("value", o.small);
+  meta.row().set("key", "seed").set("value", static_cast<int>(o.seed));
+  meta.row().set("key", "count").set("value", o.count);
+  meta.row().set("key", "binning").set("value", o.binning);
   meta.row().set("key", "threads").set("value", tbb::info::default_concurrency());
   meta.row().set("key", "compiler").set("value", std::string("GCC ") + __VERSION__);
 #ifdef __OPTIMIZE__
@@ -61,6 +64,12 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_option("study", a->study, help)->required();
   cmd->add_option("--out", a->options.out_dir, "Folder for the CSV files")->required();
   cmd->add_flag("--small", a->options.small, "Tiny images and few settings (seconds; for tests)");
+  cmd->add_option("--seed", a->options.seed, "calibration: seed of the random scenes (default 2)");
+  cmd->add_option("--count", a->options.count, "calibration: number of scenes (default 300; --small 6)");
+  cmd->add_option("--binning", a->options.binning, "calibration: binning of the 2448×2048 sensor (default 8; --small 16)");
+  cmd->add_option("--max-uncertainty", a->options.max_uncertainty_deg,
+                  "calibration: the bound every method runs with (95 % cone, degrees; default 5; inf: none)");
+  cmd->add_flag("--progress", a->options.progress, "calibration: report each scene on stderr");
   cmd->callback([a] {
     std::vector<const studies::tradeoff::Study*> run;
     for (const studies::tradeoff::Study& s : studies::tradeoff::studies())

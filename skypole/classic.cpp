@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -196,9 +197,33 @@ ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& p
   const double residual = std::sqrt(sq / static_cast<double>(size[static_cast<std::size_t>(chosen)])) / kDeg;
 
   if (touches_edge) {
+    // Which of the two causes: a compact maximum that every pair agrees on and that runs off the
+    // image means a pole beyond the field of view; a wide one (several degrees RMS), or one that
+    // not every pair reaches, means the differences did not localise the pole at all — a short,
+    // sparse or noisy window — and saying "outside the field of view" would send the user to the
+    // wrong fix.
+    const double share = static_cast<double>(size[static_cast<std::size_t>(chosen)]) / std::max(sky.valid_count, 1);
+    // The blob's centre farther from the edge of the usable image than its own RMS radius: it
+    // spills over the edge because it is wide, not because the pole lies beyond it.
+    double edge_deg = 180.0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (sky.valid[i] && on_edge(sky, i)) {
+        const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
+        edge_deg = std::min(edge_deg, std::atan2(d.cross(centroid).norm(), d.dot(centroid)) / kDeg);
+      }
+    const bool diffuse = edge_deg > residual;
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  " (%.1f %% of the sky, RMS radius %.1f°, centre %.1f° from the edge, reached by %d of %zu pairs)",
+                  100 * share, residual, edge_deg, static_cast<int>(best), im.pairs.size());
     result.estimate = invalid_estimate(
-        method, "the maximum of the summed binary images touches the edge of the usable image "
-                "(image circle, mask or horizon): the pole is probably outside the field of view");
+        method, diffuse ? "the maximum of the summed binary images is diffuse" + std::string(buf) +
+                              " and touches the edge of the usable image: the differences do not localise "
+                              "the pole (window too short, frames too few or too noisy; or, less likely, the "
+                              "pole outside the field of view)"
+                        : "the maximum of the summed binary images" + std::string(buf) +
+                              " touches the edge of the usable image (image circle, mask or horizon): the "
+                              "pole is probably outside the field of view");
     result.estimate.seconds = seconds();
     return result;
   }
@@ -216,7 +241,6 @@ ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& p
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + hemi.source;
   result.estimate.residual_deg = residual;
-  result.estimate.confidence = static_cast<double>(best) / static_cast<double>(im.pairs.size());
   result.estimate.seconds = seconds();
   return result;
 }

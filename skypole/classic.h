@@ -18,7 +18,7 @@
 // An absolute threshold (e.g. 0.01 DoLP, 0.07° noise-free) is ThresholdMode::absolute.
 // Validity: the maximal blob must not touch the edge of the usable image (image circle, mask,
 // horizon); if it does, the pole is probably outside the field of view and the estimate is
-// invalid. residual_deg = RMS angular radius of the blob; confidence = maximum / number of pairs.
+// invalid. residual_deg = RMS angular radius of the blob. Uncertainty: skypole/uncertainty.h.
 #pragma once
 
 #include <cstdint>

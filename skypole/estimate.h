@@ -35,6 +35,7 @@
 // number of an invalid estimate is meaningless and score() refuses it.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -69,6 +70,9 @@ struct InputOptions {
   double min_elevation_deg = 0;
   // Pole closer than this to the zenith: the bearing is undefined (observer at a geographic pole).
   double heading_undefined_within_deg = 0.5;
+  // The largest 95 % cone (degrees) an answer may have: a method whose stated uncertainty is
+  // wider declines with the numbers (run_method). Infinity: no bound.
+  double max_uncertainty_deg = std::numeric_limits<double>::infinity();
 };
 
 struct PoleEstimate {
@@ -84,10 +88,17 @@ struct PoleEstimate {
   double latitude_deg = 0;            // +altitude (NCP) or −altitude (SCP)
   std::optional<double> heading_deg;  // [0, 360); nullopt when undefined (see top)
   bool is_north = true;               // pole_camera is the NCP (true) or the SCP (false)
-  // Method-specific quality, documented with each method: `residual` in degrees (an angular
-  // spread or fit residual; smaller is better), `confidence` in [0, 1] (larger is better).
+  // The method's own fit residual in degrees (an angular spread or fit residual, documented with
+  // each method; smaller is better). A diagnostic, not an uncertainty.
   double residual_deg = 0;
-  double confidence = 0;
+  // The uncertainty, one meaning for every method (skypole/uncertainty.h): 1-σ of the bearing and
+  // of the latitude, the radius of the 95 % cone about pole_camera on the sphere, and σ = √λmax of
+  // the tangent-plane covariance, all in degrees. Set by run_method(); 0 = not measured (a method
+  // called directly, without run_method, states none).
+  double sigma_bearing_deg = 0;
+  double sigma_latitude_deg = 0;
+  double cone95_deg = 0;
+  double sigma_deg = 0;
   double seconds = 0;                 // wall-clock run time of the estimator
 };
 

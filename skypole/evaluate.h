@@ -16,13 +16,38 @@
 namespace skypol::skypole {
 
 // "classic", "great_circle", "invariance", "sun_vector" (AoLP, circle), "sun_vector_ephemeris"
-// (AoLP, ephemeris), "sun_dolp" (Rayleigh fit of DoLP, circle).
+// (AoLP, ephemeris), "sun_dolp" (Rayleigh fit of DoLP, circle), "auto" (the combination below).
 const std::vector<std::string>& method_names();
 
-// Runs the named method with its defaults and the given input options. Throws
-// std::invalid_argument for an unknown name (listing the legal ones) or unusable input.
+// Runs the named method with its defaults and the given input options, then states its
+// uncertainty (skypole/uncertainty.h: a frame-group jackknife, the method's calibration factor)
+// and declines it, with the numbers, when its 95 % cone is wider than input.max_uncertainty_deg.
+// Throws std::invalid_argument for an unknown name (listing the legal ones) or unusable input.
+//
+// "auto" runs every method that needs no knowledge of the site (all but sun_vector_ephemeris),
+// each as above. Two answers agree when their angle is within the root-sum-square of their 95 %
+// cones; the answer most others agree with is the centre, and the agreeing group is averaged
+// with inverse-variance weights in the tangent plane. The methods read the same frames, so their
+// errors are correlated: the result keeps the narrowest member's uncertainty rather than the
+// smaller one independent errors would give. auto declines when no method answers, or when the
+// agreeing group is no larger than the dissenting answers (the data do not decide); the note
+// names the members, the outvoted and the declined methods with their reasons.
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input = {});
+
+// auto's combination of answers already computed by run_method (e.g. by `-m all`), without
+// running anything again; only the methods used_by_auto() are considered.
+PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& input,
+                               const std::vector<PoleEstimate>& estimates);
+bool used_by_auto(std::string_view method);
+
+// A method's calibration (skypole/uncertainty.h): the factor on its jackknife σ, and its floor.
+struct MethodCalibration {
+  std::string method;
+  double inflation = 1.0;
+  double floor_deg = 0.0;
+};
+const std::vector<MethodCalibration>& method_calibrations();
 
 struct EvaluationRow {
   std::string dataset;    // e.g. the stack's file name
@@ -51,7 +76,8 @@ std::vector<MethodSummary> summarize(const std::vector<EvaluationRow>& rows);
 
 // Columns: dataset,method,valid,why_invalid,heading_deg,latitude_deg,azimuth_rel_deg,altitude_deg,
 // is_north,true_heading_deg,true_latitude_deg,bearing_error_deg,latitude_error_deg,
-// angular_error_deg,residual_deg,confidence,seconds,note
+// angular_error_deg,residual_deg,sigma_bearing_deg,sigma_latitude_deg,cone95_deg,sigma_deg,
+// seconds,note
 std::string rows_csv(const std::vector<EvaluationRow>& rows);
 // Columns: method,rows,valid,{bearing,latitude,angular}_{n,mean,median,p95,max},mean_seconds
 std::string summary_csv(const std::vector<MethodSummary>& summaries);

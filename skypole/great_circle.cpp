@@ -443,7 +443,6 @@ GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCi
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + source;
   result.estimate.residual_deg = std::asin(std::min(1.0, fit.rms)) / kDeg;
-  result.estimate.confidence = static_cast<double>(kept) / static_cast<double>(circles.size());
   result.estimate.seconds = seconds();
   if (params.keep_circles) result.circles = circles;
   return result;

@@ -29,7 +29,7 @@
 //     over pairs); the hint overrides it.
 // The pole need not be in the field of view: the circles are fitted where they are seen.
 // residual_deg: weighted RMS angular distance of the pole from the radial circles (after the
-// drift term); confidence: fraction of the pairs kept as inliers.
+// drift term). Uncertainty: skypole/uncertainty.h.
 #pragma once
 
 #include <optional>

@@ -140,7 +140,6 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   }
   if (coarse.size() < 3) return fail("too little of the sky is visible for the coarse search");
   std::sort(coarse.begin(), coarse.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  const double v_median = coarse[coarse.size() / 2].first;
   std::vector<Eigen::Vector3d> starts;
   for (const auto& [v, d] : coarse) {
     bool far = true;
@@ -225,8 +224,6 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   result.rotation_sense = sp.sense;
   result.rotation_sense_contrast = sp.sense_contrast;
   result.estimate.residual_deg = sp.sigma_rad / kDeg;
-  result.estimate.confidence =
-      v_median > 0 ? std::clamp(1 - std::sqrt(std::max(0.0, sp.v) / v_median), 0.0, 1.0) : 0.0;
   result.estimate.seconds = seconds();
   return result;
 }

@@ -33,7 +33,7 @@
 // Invalid when the fit window does not fit inside the usable image (pole at the edge of or
 // outside the field of view; the co-rotating window first shrinks, down to
 // corotating_min_radius_deg). residual_deg: 1-σ angular uncertainty from the curvature of V and
-// the residual scatter at the minimum; confidence: 1 − √(V_min / V_median) over the coarse lattice.
+// the residual scatter at the minimum. Uncertainty: skypole/uncertainty.h.
 #pragma once
 
 #include <optional>

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include "scene/json_text.h"
@@ -85,30 +86,43 @@ void write_intermediates(const ClassicImages& im, const std::string& path, const
   }
 }
 
+// One object per method, the same keys whether the method answered or declined (then every
+// number is null and why_invalid says why).
 void print_json(const std::string& path, const stack::Stack& stack, const PoleEstimate& e,
-                const Score& s) {
+                const std::optional<Score>& s) {
   const scene::Truth& t = stack.frames.at(0).truth;
-  std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": true, \"frames\": %zu, \"seconds\": %.4f,\n", json_quoted(path).c_str(),
-              e.method.c_str(), stack.frames.size(), e.seconds);
-  std::printf(" \"latitude_deg\": %.6f, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %.6f,\n", e.latitude_deg,
-              t.site.latitude_deg, s.latitude_error_deg);
+  const auto v = [&](double x) { return e.valid ? std::optional<double>(x) : std::nullopt; };
+  std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": %s, \"why_invalid\": %s, \"frames\": %zu, "
+              "\"seconds\": %.4f,\n",
+              json_quoted(path).c_str(), e.method.c_str(), e.valid ? "true" : "false",
+              e.valid ? "null" : json_quoted(e.why_invalid).c_str(), stack.frames.size(), e.seconds);
+  std::printf(" \"latitude_deg\": %s, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %s,\n",
+              number_or_null(v(e.latitude_deg), 6).c_str(), t.site.latitude_deg,
+              number_or_null(s ? std::optional<double>(s->latitude_error_deg) : std::nullopt, 6).c_str());
   std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %.6f, \"bearing_error_deg\": %s,\n",
-              heading_or_null(e.heading_deg, 6).c_str(), t.heading_deg, number_or_null(s.bearing_error_deg, 6).c_str());
-  std::printf(" \"angular_error_deg\": %.6f, \"pole\": \"%s\", \"residual_deg\": %.6f, \"confidence\": %.4f,\n",
-              s.angular_error_deg, e.is_north ? "north" : "south", e.residual_deg, e.confidence);
+              heading_or_null(e.valid ? e.heading_deg : std::nullopt, 6).c_str(), t.heading_deg,
+              number_or_null(s ? s->bearing_error_deg : std::nullopt, 6).c_str());
+  std::printf(" \"sigma_bearing_deg\": %s, \"sigma_latitude_deg\": %s, \"cone95_deg\": %s,\n",
+              number_or_null(v(e.sigma_bearing_deg), 6).c_str(), number_or_null(v(e.sigma_latitude_deg), 6).c_str(),
+              number_or_null(v(e.cone95_deg), 6).c_str());
+  std::printf(" \"angular_error_deg\": %s, \"pole\": %s, \"residual_deg\": %s,\n",
+              number_or_null(s ? std::optional<double>(s->angular_error_deg) : std::nullopt, 6).c_str(),
+              e.valid ? (e.is_north ? "\"north\"" : "\"south\"") : "null",
+              number_or_null(v(e.residual_deg), 6).c_str());
   std::printf(" \"note\": %s}", json_quoted(e.note).c_str());
 }
 
 void print_table(const stack::Stack& stack, const PoleEstimate& e, const Score& s) {
   const scene::Truth& t = stack.frames.at(0).truth;
   std::printf("method   %s (%.3f s)%s%s\n", e.method.c_str(), e.seconds, e.note.empty() ? "" : "; ", e.note.c_str());
-  std::printf("%-24s %12s %12s %12s\n", "", "estimate", "truth", "error");
-  std::printf("%-24s %12.3f %12.3f %+12.3f\n", "latitude (deg)", e.latitude_deg, t.site.latitude_deg,
-              s.latitude_error_deg);
-  std::printf("%-24s %12s %12.3f %12s\n", "north bearing (deg)", heading_or_null(e.heading_deg, 3).c_str(),
-              t.heading_deg, number_or_null(s.bearing_error_deg, 3, true).c_str());
-  std::printf("%-24s %12s %12s %12.3f\n", "pole on the sphere (deg)", e.is_north ? "north" : "south",
-              t.pole_is_north ? "north" : "south", s.angular_error_deg);
+  std::printf("%-24s %12s %12s %12s %12s\n", "", "estimate", "truth", "error", "1-sigma");
+  std::printf("%-24s %12.3f %12.3f %+12.3f %12.3f\n", "latitude (deg)", e.latitude_deg, t.site.latitude_deg,
+              s.latitude_error_deg, e.sigma_latitude_deg);
+  std::printf("%-24s %12s %12.3f %12s %12.3f\n", "north bearing (deg)", heading_or_null(e.heading_deg, 3).c_str(),
+              t.heading_deg, number_or_null(s.bearing_error_deg, 3, true).c_str(), e.sigma_bearing_deg);
+  std::printf("%-24s %12s %12s %12.3f %12s\n", "pole on the sphere (deg)", e.is_north ? "north" : "south",
+              t.pole_is_north ? "north" : "south", s.angular_error_deg, "");
+  std::printf("%-24s %12.3f\n", "95% cone (deg)", e.cone95_deg);
 }
 
 }  // namespace
@@ -147,8 +161,9 @@ void print_estimate(const EstimateRequest& r) {
     std::printf("stack    %s (%zu frames, %dx%d)\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
                 stack.frames[0].height);
   }
-  if (r.json && methods.size() > 1) std::printf("[");
+  if (r.json) std::printf("[");
   std::size_t declined = 0;
+  std::vector<PoleEstimate> done;  // for auto, which combines the answers already computed
   for (std::size_t i = 0; i < methods.size(); ++i) {
     PoleEstimate e;
     if (!r.intermediates.empty()) {
@@ -158,41 +173,48 @@ void print_estimate(const EstimateRequest& r) {
       ClassicResult c = estimate_classic(stack, p);
       write_intermediates(c.images, r.intermediates, r.path);
       e = std::move(c.estimate);
+      write_intermediates(c.images, r.intermediates);
+      // The same uncertainty and bound as every other route (run_method).
+      e = run_method(stack, "classic", r.input);
     } else {
       try {
-        e = run_method(stack, methods[i], r.input);
+        const auto computed = [&](const std::string& m) {
+          return !used_by_auto(m) ||
+                 std::any_of(done.begin(), done.end(), [&](const PoleEstimate& d) { return d.method == m; });
+        };
+        const bool reuse = methods[i] == "auto" && std::all_of(method_names().begin(), method_names().end(), computed);
+        e = reuse ? combine_estimates(stack, r.input, done) : run_method(stack, methods[i], r.input);
       } catch (const std::invalid_argument& err) {
-        if (methods.size() == 1) throw;
+        e = PoleEstimate{};
         e.method = methods[i];
         e.valid = false;
         e.why_invalid = err.what();
       }
     }
-    if (!e.valid) {
-      // One method alone: its refusal is the command's error. Several: the others still run, and
-      // this one says why it has no pole (never a silent number).
-      if (methods.size() == 1) {
-        throw std::invalid_argument(r.path + ": " + methods[i] + " found no pole: " + e.why_invalid);
-      }
+    done.push_back(e);
+    std::optional<Score> s;
+    if (e.valid) {
+      s = score(e, stack.frames[0].truth);
+    } else {
       ++declined;
-      if (r.json) {
-        std::printf("%s{\"stack\": %s, \"method\": \"%s\", \"valid\": false, \"why_invalid\": %s}", i ? ",\n" : "",
-                    json_quoted(r.path).c_str(), methods[i].c_str(), json_quoted(e.why_invalid).c_str());
-      } else {
-        std::printf("method   %s: no pole: %s\n", methods[i].c_str(), e.why_invalid.c_str());
-      }
-      continue;
     }
-    const Score s = score(e, stack.frames[0].truth);
     if (r.json) {
       if (i) std::printf(",\n");
       print_json(r.path, stack, e, s);
+    } else if (e.valid) {
+      print_table(stack, e, *s);
     } else {
-      print_table(stack, e, s);
+      // A declined method says why, in the text as in the JSON (never a silent blank).
+      std::printf("method   %s: declined: %s\n", methods[i].c_str(), e.why_invalid.c_str());
     }
   }
-  if (r.json) std::printf(methods.size() > 1 ? "]\n" : "\n");
-  if (declined == methods.size()) throw std::invalid_argument(r.path + ": no method found a pole");
+  if (r.json) std::printf("]\n");
+  std::fflush(stdout);
+  if (declined == methods.size()) {
+    throw std::invalid_argument(r.path + ": " +
+                                (methods.size() == 1 ? methods[0] + " found no pole: " + done[0].why_invalid
+                                                     : std::string("no method found a pole")));
+  }
 }
 
 }  // namespace skypol::skypole

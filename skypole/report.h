@@ -16,8 +16,9 @@ struct EstimateRequest {
   std::string intermediates;  // classic only: write its step images to this EXR (empty: none)
 };
 
-// Prints a table (or JSON: one object for one method, an array for several). Throws
-// std::invalid_argument on bad input (unknown method, unreadable stack, no pole found).
+// Prints a table (or JSON: always an array, one object per method with the same keys, declined or
+// not; a declined method's reason is printed in the table too). Throws std::invalid_argument on
+// bad input (unknown method, unreadable stack) and when every method declined.
 void print_estimate(const EstimateRequest& request);
 inline void print_estimate(const std::string& path, const std::string& method, bool json) {
   EstimateRequest r;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -334,9 +335,21 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
             "fewer than two frames; pass hemisphere = north or south";
     return d;
   }
-  if (!seen || std::abs(v.vote) < 0.3 * v.total) {
-    d.why = "cannot tell north from south: the sun's motion between the frames is too small or "
-            "inconsistent to give the sense of rotation; pass hemisphere = north or south";
+  if (!seen) {
+    d.why = "cannot tell north from south: the sun's motion between the frames is too small to give "
+            "the sense of rotation; pass hemisphere = north or south";
+    return d;
+  }
+  if (std::abs(v.vote) < 0.3 * v.total) {
+    // The sun moved enough, but the suns found in the frames do not turn one way: they are
+    // misplaced (noise, a low sun, cloud over the sun's side of the sky), not too close.
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "cannot tell north from south: the suns found in the frames turn both ways about the "
+                  "axis (net %.0f %% of their motion one way, 30 %% needed); the sun positions are "
+                  "unreliable (noise, a low sun or cloud); pass hemisphere = north or south",
+                  v.total > 0 ? 100 * std::abs(v.vote) / v.total : 0.0);
+    d.why = buf;
     return d;
   }
   d.ok = true;

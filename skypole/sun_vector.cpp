@@ -149,7 +149,6 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
     else if (starts[t])
       suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &quality[t]);
   });
-  double mean_q = 0;
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     if (!suns[t]) {
       if (params.source == SunSource::aolp)
@@ -162,7 +161,6 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
     }
     result.suns_camera.push_back(*suns[t]);
     result.sun_quality.push_back(quality[t]);
-    mean_q += quality[t] / static_cast<double>(sky.frames());
   }
 
   if (params.mode == PoleFromSun::ephemeris) {
@@ -192,7 +190,6 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
     result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                             std::string("ephemeris mode: latitude is the given site's");
     result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kDeg;
-    result.estimate.confidence = std::clamp(1 - mean_q, 0.0, 1.0);
     result.estimate.seconds = seconds();
     return result;
   }
@@ -224,7 +221,6 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
                           std::string("hemisphere from ") + hemi.source;
   const Eigen::VectorXd r = h * (s * p);
   result.estimate.residual_deg = std::sqrt(r.squaredNorm() / static_cast<double>(n)) / kDeg;
-  result.estimate.confidence = std::clamp(1 - mean_q, 0.0, 1.0);
   result.estimate.seconds = seconds();
   return result;
 }

@@ -20,8 +20,7 @@
 // of (true sun azimuth − level-frame sun azimuth), and the pole is the site's true pole placed
 // with that heading. Its latitude is the site's, by construction: only its bearing is a result.
 // residual_deg: RMS angle between the suns and the fitted cone (circle) or between the measured
-// and the ephemeris suns after the heading (ephemeris); confidence: 1 − mean λ0/λ1 of the AoLP sun
-// fits, or 1 − mean DoLP RMS residual of the Rayleigh fits.
+// and the ephemeris suns after the heading (ephemeris). Uncertainty: skypole/uncertainty.h.
 #pragma once
 
 #include <optional>

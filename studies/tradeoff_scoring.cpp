@@ -23,17 +23,23 @@ std::vector<std::string> with_score_columns(std::vector<std::string> first) {
 
 void score_every_method(const stack::Stack& stack, Table& table,
                         const std::function<void(Table&)>& setting) {
+  std::vector<skypole::PoleEstimate> done;  // auto (last) combines these, running nothing again
   for (const std::string& m : skypole::method_names()) {
     table.row();
     setting(table);
     skypole::PoleEstimate e;
     double s = 0;
     try {
-      s = best_seconds(1, [&] { e = skypole::run_method(stack, m); });
+      s = best_seconds(1, [&] {
+        e = m == "auto" ? skypole::combine_estimates(stack, {}, done) : skypole::run_method(stack, m);
+      });
+      if (m == "auto") s = e.seconds;
     } catch (const std::invalid_argument& error) {  // input this method cannot use (too few frames)
+      e.method = m;
       e.valid = false;
       e.why_invalid = error.what();
     }
+    done.push_back(e);
     table.set("method", m).set("valid", e.valid).set("estimate_s", s);
     if (!e.valid) {
       table.set("why_invalid", e.why_invalid);

@@ -5,6 +5,7 @@
 // docs/benchmarks.md's "Data" section.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,16 @@ namespace skypol::studies::tradeoff {
 struct StudyOptions {
   std::string out_dir;  // CSV files go here (created if missing)
   bool small = false;   // tiny images and few settings: proves the study runs, in seconds
+  // Studies that draw random scenes (calibration): the seed and the number of scenes (0: the
+  // study's default), and whether to report progress on stderr.
+  std::uint64_t seed = 2;
+  int count = 0;
+  int binning = 0;      // calibration: binning of the 2448×2048 sensor (0: 8, --small 16)
+  // calibration: the --max-uncertainty every method is run with (95 % cone, degrees; infinity:
+  // none). 5°: an answer the method itself says may be more than 5° off is declined, not counted
+  // as an answer, so that a lie (valid, > 5° off) is one the method did not warn of.
+  double max_uncertainty_deg = 5.0;
+  bool progress = false;
 };
 
 struct Study {
@@ -32,5 +43,6 @@ void study_noise(const StudyOptions& o);          // exposure (sensor noise) →
 void study_lens_inverse(const StudyOptions& o);   // Newton iterations → round-trip error vs time
 void study_sky_precision(const StudyOptions& o);  // float vs double sky evaluation
 void study_throughput(const StudyOptions& o);     // Mpix/s, MB/s, s/stack and their scaling
+void study_calibration(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
 
 }  // namespace skypol::studies::tradeoff

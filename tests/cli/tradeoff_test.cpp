@@ -6,6 +6,7 @@
 
 #include "cli/cli_harness.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -112,9 +113,9 @@ std::vector<std::string> with_score(std::vector<std::string> first) {
 }
 
 const std::vector<std::string> kMethods = {"classic", "great_circle", "invariance", "sun_vector",
-                                           "sun_vector_ephemeris", "sun_dolp"};
+                                           "sun_vector_ephemeris", "sun_dolp", "auto"};
 
-// Rows of an estimator table: six methods per setting; valid rows carry finite errors.
+// Rows of an estimator table: six methods and auto per setting; valid rows carry finite errors.
 void check_scores(const Csv& t) {
   REQUIRE(t.rows.size() % kMethods.size() == 0);
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
@@ -306,6 +307,54 @@ TEST_CASE("skypol tradeoff all --small writes every table with its columns and s
     CHECK(occ[0].at("rate").empty());
     CHECK(occ[0].at("note").find("placeholder") != std::string::npos);
     CHECK(!fs::exists(out / "throughput-scratch"));  // its stacks are removed
+  }
+}
+
+TEST_CASE("skypol tradeoff calibration --small: one row per scene and method, a summary that adds up",
+          "[cli][tradeoff][calibration]") {
+  const fs::path out = small_report() / "figures" / "benchmarks";
+  const Csv t = read_csv(out / "calibration.csv");
+  for (const char* c : {"stack", "latitude_deg", "window_min", "frames", "tilt_deg", "lens", "sky", "cloud", "sensor",
+                        "method", "valid", "why_invalid", "angular_error_deg", "sigma_bearing_deg",
+                        "sigma_latitude_deg", "sigma_deg", "cone95_deg", "inside_cone", "lie"})
+    CHECK(std::find(t.columns.begin(), t.columns.end(), c) != t.columns.end());
+  REQUIRE(t.rows.size() == 6 * kMethods.size());  // --small: 6 scenes
+  std::map<std::string, int> valid, inside, lies;
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const auto& r = t.rows[i];
+    CHECK(r.at("method") == kMethods[i % kMethods.size()]);
+    CHECK(std::abs(num(r, "latitude_deg")) <= 70);
+    CHECK(num(r, "window_min") >= 20);
+    CHECK(num(r, "window_min") <= 660);
+    CHECK(num(r, "tilt_deg") <= 15);
+    CHECK(num(r, "cloud") <= 0.5);
+    if (r.at("valid") == "1") {
+      ++valid[r.at("method")];
+      const double err = num(r, "angular_error_deg"), cone = num(r, "cone95_deg"), sigma = num(r, "sigma_deg");
+      CHECK(cone > 0);
+      CHECK(cone == Approx(2.4477 * sigma).epsilon(1e-3));  // √χ²₂(0.95)·σ
+      CHECK(num(r, "sigma_latitude_deg") <= sigma * (1 + 1e-4));
+      CHECK(r.at("inside_cone") == (err <= cone ? "1" : "0"));
+      CHECK(r.at("lie") == (err > 5 || err > 5 * sigma ? "1" : "0"));
+      inside[r.at("method")] += r.at("inside_cone") == "1";
+      lies[r.at("method")] += r.at("lie") == "1";
+      CHECK(r.at("why_invalid").empty());
+    } else {
+      CHECK(!r.at("why_invalid").empty());
+      CHECK(r.at("cone95_deg").empty());
+    }
+  }
+  const Csv s = read_csv(out / "calibration_summary.csv");
+  REQUIRE(s.rows.size() == kMethods.size());
+  for (const auto& r : s.rows) {
+    const std::string& m = r.at("method");
+    INFO(m);
+    CHECK(num(r, "stacks") == 6);
+    CHECK(num(r, "valid") == valid[m]);
+    CHECK(num(r, "inside_cone") == inside[m]);
+    CHECK(num(r, "lies") == lies[m]);
+    CHECK(num(r, "yield") == Approx(valid[m] / 6.0).epsilon(1e-5));
+    if (valid[m] > 0) CHECK(num(r, "coverage") == Approx(static_cast<double>(inside[m]) / valid[m]).epsilon(1e-5));
   }
 }
 

@@ -28,7 +28,7 @@ skypole::Score run(const stack::Stack& stack, const skypole::GreatCircleParams& 
   std::cout << "great_circle " << label << ": bearing err "
             << (s.bearing_error_deg ? *s.bearing_error_deg : std::nan("")) << "°, latitude err "
             << s.latitude_error_deg << "°, angular err " << s.angular_error_deg << "°, residual "
-            << r.estimate.residual_deg << "°, confidence " << r.estimate.confidence << ", drift "
+            << r.estimate.residual_deg << "°, drift "
             << (r.drift_fitted ? r.drift : std::nan("")) << ", " << r.estimate.seconds << " s\n";
   if (out) *out = r;
   return s;

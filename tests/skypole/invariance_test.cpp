@@ -27,7 +27,7 @@ skypole::Score run(const stack::Stack& stack, const skypole::InvarianceParams& p
   std::cout << "invariance " << label << ": bearing err "
             << (s.bearing_error_deg ? *s.bearing_error_deg : std::nan("")) << "°, latitude err "
             << s.latitude_error_deg << "°, angular err " << s.angular_error_deg << "°, residual "
-            << r.estimate.residual_deg << "°, confidence " << r.estimate.confidence
+            << r.estimate.residual_deg << "°"
             << ", detrended " << r.detrended << ", corotating " << r.corotating << ", window "
             << r.window_deg << "°, "
             << r.estimate.seconds << " s\n";

@@ -1,0 +1,131 @@
+// The jackknife and the covariance → σ, cone conversion (uncertainty.h).
+#include "skypole/uncertainty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+namespace skypol::skypole {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kChi2_2_95 = 5.991464547107979;  // χ²₂ quantile at 0.95
+
+// Unit azimuth and altitude axes of the tangent plane at the level-frame direction p.
+void tangent_axes(const Eigen::Vector3d& p, Eigen::Vector3d& e_az, Eigen::Vector3d& e_alt) {
+  const double horiz = std::hypot(p.x(), p.y());
+  const double az = horiz > 1e-12 ? std::atan2(p.x(), p.y()) : 0.0;
+  const double el = std::atan2(p.z(), horiz);
+  e_az = Eigen::Vector3d(std::cos(az), -std::sin(az), 0.0);
+  e_alt = Eigen::Vector3d(-std::sin(el) * std::sin(az), -std::sin(el) * std::cos(az), std::cos(el));
+}
+
+std::string deg_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f°", v);
+  return buf;
+}
+
+}  // namespace
+
+void set_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& c) {
+  const double alt = e.altitude_deg * kDeg;
+  e.sigma_latitude_deg = std::sqrt(std::max(c(1, 1), 0.0)) / kDeg;
+  const double cos_alt = std::cos(alt);
+  const double sb = cos_alt > 1e-9 ? std::sqrt(std::max(c(0, 0), 0.0)) / cos_alt / kDeg : 180.0;
+  e.sigma_bearing_deg = std::min(sb, 180.0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(c);
+  const double lmax = std::max(es.eigenvalues().maxCoeff(), 0.0);
+  e.sigma_deg = std::sqrt(lmax) / kDeg;
+  e.cone95_deg = std::min(std::sqrt(kChi2_2_95 * lmax) / kDeg, 180.0);
+}
+
+Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other) {
+  const Eigen::Vector3d p = at.pole_level.normalized();
+  // `other`'s NCP, expressed as the end `at` reports.
+  const Eigen::Vector3d other_ncp = other.is_north ? other.pole_level : Eigen::Vector3d(-other.pole_level);
+  const Eigen::Vector3d q = (at.is_north ? other_ncp : Eigen::Vector3d(-other_ncp)).normalized();
+  // Log map: the tangent vector towards q whose length is the angle between p and q.
+  const Eigen::Vector3d perp = q - q.dot(p) * p;
+  const double angle = std::atan2(perp.norm(), q.dot(p));
+  if (perp.norm() < 1e-15) return Eigen::Vector2d::Zero();
+  const Eigen::Vector3d v = perp.normalized() * angle;
+  Eigen::Vector3d e_az, e_alt;
+  tangent_axes(p, e_az, e_alt);
+  return {v.dot(e_az), v.dot(e_alt)};
+}
+
+void jackknife_uncertainty(PoleEstimate& e, const stack::Stack& stack,
+                           const std::function<PoleEstimate(const stack::Stack&)>& method,
+                           const JackknifeOptions& o) {
+  if (!e.valid) return;
+  const int n = static_cast<int>(stack.frames.size());
+  if (n < 3) {
+    e.valid = false;
+    e.why_invalid = "too few frames to measure the uncertainty (" + std::to_string(n) +
+                    "; the jackknife needs 3)";
+    return;
+  }
+  const int k = std::min(n, std::max(o.max_groups, 2));
+  std::vector<Eigen::Vector2d> offsets;
+  for (int g = 0; g < k; ++g) {
+    stack::Stack sub;
+    sub.camera = stack.camera;
+    sub.bands = stack.bands;
+    for (int i = 0; i < n; ++i)
+      if (i % k != g) sub.frames.push_back(stack.frames[static_cast<std::size_t>(i)]);
+    PoleEstimate s;
+    try {
+      s = method(sub);
+    } catch (const std::invalid_argument& err) {
+      s.valid = false;
+      s.why_invalid = err.what();
+    }
+    if (!s.valid) {
+      e.valid = false;
+      e.why_invalid = "unstable: without frame group " + std::to_string(g + 1) + " of " + std::to_string(k) +
+                      " the method finds no pole (" + s.why_invalid +
+                      "); the window is too short, too sparse or too noisy for a stated uncertainty";
+      return;
+    }
+    if (s.is_north != e.is_north && std::abs(e.latitude_deg) > 1.0) {
+      e.valid = false;
+      e.why_invalid = "unstable: without frame group " + std::to_string(g + 1) + " of " + std::to_string(k) +
+                      " the method finds the other celestial pole (north/south undecidable on this window)";
+      return;
+    }
+    offsets.push_back(tangent_offset(e, s));
+  }
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& d : offsets) mean += d;
+  mean /= static_cast<double>(offsets.size());
+  Eigen::Matrix2d c = Eigen::Matrix2d::Zero();
+  for (const auto& d : offsets) c += (d - mean) * (d - mean).transpose();
+  c *= static_cast<double>(k - 1) / static_cast<double>(k);
+  // The jackknife mean's distance from the full answer is a bias the scatter does not show;
+  // count it (its square) in both axes' variance.
+  c += (mean * mean.transpose()) * static_cast<double>(k - 1);
+  c *= o.inflation * o.inflation;
+  const double floor = o.floor_deg * kDeg;
+  c += Eigen::Matrix2d::Identity() * floor * floor;
+  set_uncertainty(e, c);
+}
+
+void apply_uncertainty_bound(PoleEstimate& e, double max_cone95_deg) {
+  if (!e.valid || !std::isfinite(max_cone95_deg)) return;
+  if (e.cone95_deg > max_cone95_deg) {
+    e.valid = false;
+    e.why_invalid = "uncertainty above the bound: 95 % cone " + deg_text(e.cone95_deg) + " > " +
+                    deg_text(max_cone95_deg) + " (σ bearing " + deg_text(e.sigma_bearing_deg) +
+                    ", σ latitude " + deg_text(e.sigma_latitude_deg) + ")";
+  }
+}
+
+}  // namespace skypol::skypole

@@ -1,0 +1,291 @@
+// Study: are the stated uncertainties honest? A seeded random population of scenes unlike the
+// shipped ones — sites from −70° to 70° latitude, dates through the year, windows of 20 min to
+// 11 h with a frame every 2–30 min, any heading, tilts up to 15°, every analytic lens model, the
+// mono or colour DoFP sensor at various exposures and gains (or none), 0–50 % cloud, the Rayleigh
+// and Berry skies — each rendered small (binning 8: 306×256; --small: binning 16, 153×128) and
+// given to every method and to auto, with --max-uncertainty (default 5°: StudyOptions). Per stack and method: the error against the truth, the
+// stated σ and 95 % cone. Per method: the yield (share of valid answers), the lie rate (valid
+// with error > 5°, or > 5σ), the coverage (share of valid answers whose 95 % cone holds the
+// truth), the error distribution, and the σ factor that would have made the coverage exactly
+// 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seed 1; the checks in
+// docs/benchmarks.md use seed 2).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include <tbb/parallel_for.h>
+
+#include "camera/lens_factory.h"
+#include "camera/orientation.h"
+#include "camera/presets.h"
+#include "render/renderer.h"
+#include "render/sensor_stage.h"
+#include "scene/scene.h"
+#include "scene/truth.h"
+#include "sky/sky_spec.h"
+#include "sky/sun.h"
+#include "skypole/estimate.h"
+#include "skypole/evaluate.h"
+#include "studies/tradeoff_setup.h"
+#include "studies/tradeoff_studies.h"
+#include "studies/tradeoff_table.h"
+
+namespace skypol::studies::tradeoff {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kLieDeg = 5.0;    // an answer this far off, while valid, is a lie
+constexpr double kLieSigma = 5.0;  // … or this many of its own σ off
+
+struct Draw {
+  int index = 0;
+  sky::Site site;
+  std::string date;  // YYYY-MM-DD
+  double start_unix = 0, window_min = 0, step_min = 0;
+  int frames = 0;
+  double heading = 0, tilt = 0, roll = 0;
+  std::string lens;
+  std::string sky_model;
+  double max_dolp = 0.7;
+  double cloud = 0;
+  std::string sensor;  // none | mono | colour
+  double exposure_us = 0, gain_factor = 1;
+  std::uint64_t seed = 0;
+};
+
+double sun_elevation_deg(const sky::Site& site, double unix_s) {
+  return sky::sun_position(site, sky::Instant{unix_s}).elevation / kDeg;
+}
+
+// One scene of the population; the sun stays ≥ 3° above the horizon in every frame.
+Draw draw_scene(std::mt19937_64& rng, int index) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const std::vector<std::string> lenses = {"equidistant", "equisolid", "stereographic", "orthographic",
+                                           "kannala_brandt"};
+  for (int attempt = 0;; ++attempt) {
+    Draw d;
+    d.index = index;
+    d.site = sky::Site{-70 + 140 * u(rng), -180 + 360 * u(rng), 0};
+    const int doy = static_cast<int>(365 * u(rng));
+    const double jan1_2023 = 1672531200.0;
+    const double day0 = jan1_2023 + doy * 86400.0;
+    // log-uniform window 20 min … 11 h; step 2 … 30 min; at most 24 frames (the step grows).
+    d.window_min = 20 * std::exp(u(rng) * std::log(660.0 / 20.0));
+    d.step_min = std::clamp(2 + 28 * u(rng), 2.0, d.window_min / 2);
+    d.frames = static_cast<int>(std::floor(d.window_min / d.step_min)) + 1;
+    if (d.frames > 24) {
+      d.frames = 24;
+      d.step_min = d.window_min / 23;
+    }
+    // Local solar noon ≈ 12:00 − longitude/15 h UTC; the window's centre within ±5 h of it.
+    const double noon = day0 + (12.0 - d.site.longitude_deg / 15.0) * 3600.0;
+    const double centre = noon + (u(rng) - 0.5) * 10 * 3600.0;
+    d.start_unix = centre - d.window_min * 30.0;
+    bool up = true;
+    for (int i = 0; i < d.frames && up; ++i)
+      up = sun_elevation_deg(d.site, d.start_unix + i * d.step_min * 60.0) >= 3.0;
+    if (!up && attempt < 200) continue;
+    d.heading = 360 * u(rng);
+    d.tilt = u(rng) < 0.4 ? 0.0 : 15 * u(rng);
+    d.roll = u(rng) < 0.4 ? 0.0 : 360 * u(rng);  // the tilt's direction
+    d.lens = lenses[static_cast<std::size_t>(u(rng) * static_cast<double>(lenses.size())) % lenses.size()];
+    d.sky_model = u(rng) < 0.7 ? "rayleigh" : "berry";
+    d.max_dolp = 0.5 + 0.3 * u(rng);
+    d.cloud = u(rng) < 0.35 ? 0.0 : 0.5 * u(rng);
+    const double s = u(rng);
+    d.sensor = s < 0.15 ? "none" : s < 0.8 ? "mono" : "colour";
+    d.exposure_us = 250 * std::exp(u(rng) * std::log(12.0));  // 0.25 … 3 ms
+    d.gain_factor = std::exp((u(rng) - 0.5) * std::log(8.0));  // ×0.35 … ×2.8
+    d.seed = rng();
+    char buf[16];
+    const std::time_t t = static_cast<std::time_t>(day0);
+    std::strftime(buf, sizeof buf, "%Y-%m-%d", std::gmtime(&t));
+    d.date = buf;
+    return d;
+  }
+}
+
+std::shared_ptr<const camera::Camera> make_camera(const Draw& d, int binning) {
+  const camera::SensorPreset& sp = camera::sensor_preset("sony_imx250mzr");
+  camera::LensSpec spec;
+  spec.model = d.lens;
+  spec.width = sp.width / binning;
+  spec.height = sp.height / binning;
+  const double theta_max = (d.lens == "orthographic" ? 90.0 : 92.5) * kDeg;
+  spec.fov_deg = 2 * theta_max / kDeg;
+  // The image circle just inside the sensor's height.
+  const double r = 0.49 * spec.height;
+  if (d.lens == "equidistant") spec.fx = r / theta_max;
+  if (d.lens == "equisolid") spec.fx = r / (2 * std::sin(theta_max / 2));
+  if (d.lens == "stereographic") spec.fx = r / (2 * std::tan(theta_max / 2));
+  if (d.lens == "orthographic") spec.fx = r / std::sin(theta_max);
+  if (d.lens == "kannala_brandt") {
+    spec.coefficients = {-0.02, 0.001, 0, 0};
+    const double t = theta_max;
+    spec.fx = r / (t * (1 - 0.02 * t * t + 0.001 * t * t * t * t));
+  }
+  return std::make_shared<camera::Camera>(camera::make_lens(spec),
+                                          camera::world_from_heading_tilt_roll(d.heading, d.tilt, d.roll));
+}
+
+stack::Stack render_draw(const Draw& d, int binning) {
+  auto cam = make_camera(d, binning);
+  sky::SkySpec sky;
+  sky.model = d.sky_model;
+  sky.max_dolp = d.max_dolp;
+  sky.clouds.coverage = d.cloud;
+  sky.clouds.seed = d.seed;
+  const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(sky);
+  const bool colour = d.sensor == "colour";
+  render::RenderOptions ro;
+  ro.bands = colour ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
+  ro.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  const render::Renderer renderer(cam, ro);
+  scene::Scene scene;
+  scene.site = d.site;
+  scene.camera.heading_deg = d.heading;
+  scene.camera.tilt_deg = d.tilt;
+  scene.camera.roll_deg = d.roll;
+  stack::Stack stack;
+  stack.camera = cam;
+  stack.bands = ro.bands;
+  stack.frames.resize(static_cast<std::size_t>(d.frames));
+  for (int i = 0; i < d.frames; ++i) {
+    const sky::Instant t{d.start_unix + i * d.step_min * 60.0};
+    const scene::Truth truth = scene::make_truth(scene, *cam, t);
+    stack.frames[static_cast<std::size_t>(i)] = renderer.render(*sky_model, truth.sun);
+    stack.frames[static_cast<std::size_t>(i)].truth = truth;
+  }
+  if (d.sensor != "none") {
+    scene::SensorSpec sensor;
+    sensor.dofp = paper_sensor(binning, d.exposure_us, d.seed);
+    sensor.dofp.gain_dn_per_e *= d.gain_factor;
+    if (colour) sensor.dofp.color_filter = camera::ColorFilter::rggb_blocks;
+    tbb::parallel_for(std::size_t{0}, stack.frames.size(), [&](std::size_t i) {
+      render::apply_sensor(sensor, ro.bands, i, stack.frames[i], false);
+    });
+  }
+  for (stack::Frame& f : stack.frames)
+    for (const std::string& b : ro.bands)
+      for (const char* c : {"S0.", "S1.", "S2."}) f.channels.erase(c + b);
+  return stack;
+}
+
+}  // namespace
+
+void study_calibration(const StudyOptions& o) {
+  const int binning = o.binning > 0 ? o.binning : o.small ? 16 : 8;
+  const int count = o.count > 0 ? o.count : (o.small ? 6 : 300);
+  std::mt19937_64 rng(o.seed);
+  Table rows({"stack", "seed", "latitude_deg", "longitude_deg", "date", "window_min", "step_min", "frames",
+              "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "cloud", "sensor", "exposure_us", "gain_factor",
+              "binning", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
+              "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
+              "inside_cone", "lie", "estimate_s"});
+  struct Acc {
+    int stacks = 0, valid = 0, lies = 0, inside = 0;
+    std::vector<double> errors, ratios;  // angular error; error / cone95
+  };
+  std::vector<std::string> methods = skypole::method_names();
+  skypole::InputOptions input;
+  input.max_uncertainty_deg = o.max_uncertainty_deg;
+  std::vector<Acc> acc(methods.size());
+  for (int k = 0; k < count; ++k) {
+    const Draw d = draw_scene(rng, k);
+    const stack::Stack stack = render_draw(d, binning);
+    std::vector<skypole::PoleEstimate> done;
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      skypole::PoleEstimate e;
+      try {
+        e = methods[m] == "auto" ? skypole::combine_estimates(stack, input, done)
+                                 : skypole::run_method(stack, methods[m], input);
+      } catch (const std::invalid_argument& err) {
+        e = skypole::PoleEstimate{};
+        e.method = methods[m];
+        e.why_invalid = err.what();
+      }
+      done.push_back(e);
+      rows.row()
+          .set("stack", k)
+          .set("seed", static_cast<int>(o.seed))
+          .set("latitude_deg", d.site.latitude_deg)
+          .set("longitude_deg", d.site.longitude_deg)
+          .set("date", d.date)
+          .set("window_min", d.window_min)
+          .set("step_min", d.step_min)
+          .set("frames", d.frames)
+          .set("heading_deg", d.heading)
+          .set("tilt_deg", d.tilt)
+          .set("lens", d.lens)
+          .set("sky", d.sky_model)
+          .set("max_dolp", d.max_dolp)
+          .set("cloud", d.cloud)
+          .set("sensor", d.sensor)
+          .set("exposure_us", d.exposure_us)
+          .set("gain_factor", d.gain_factor)
+          .set("binning", binning)
+          .set("method", methods[m])
+          .set("valid", e.valid)
+          .set("estimate_s", e.seconds);
+      Acc& a = acc[m];
+      ++a.stacks;
+      if (!e.valid) {
+        rows.set("why_invalid", e.why_invalid);
+        continue;
+      }
+      const skypole::Score s = skypole::score(e, stack.frames.front().truth);
+      const bool inside = s.angular_error_deg <= e.cone95_deg;
+      const bool lie = s.angular_error_deg > kLieDeg || s.angular_error_deg > kLieSigma * e.sigma_deg;
+      ++a.valid;
+      a.inside += inside ? 1 : 0;
+      a.lies += lie ? 1 : 0;
+      a.errors.push_back(s.angular_error_deg);
+      a.ratios.push_back(e.cone95_deg > 0 ? s.angular_error_deg / e.cone95_deg : 1e9);
+      rows.set("angular_error_deg", s.angular_error_deg)
+          .set("latitude_error_deg", std::abs(s.latitude_error_deg))
+          .set("sigma_bearing_deg", e.sigma_bearing_deg)
+          .set("sigma_latitude_deg", e.sigma_latitude_deg)
+          .set("sigma_deg", e.sigma_deg)
+          .set("cone95_deg", e.cone95_deg)
+          .set("inside_cone", inside)
+          .set("lie", lie);
+      if (s.bearing_error_deg) rows.set("bearing_error_deg", std::abs(*s.bearing_error_deg));
+    }
+    if (o.progress) std::fprintf(stderr, "calibration %d/%d\n", k + 1, count);
+  }
+  const auto quantile = [](std::vector<double> v, double q) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+    return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
+  };
+  Table summary({"method", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",
+                 "median_error_deg", "p90_error_deg", "p95_error_deg", "max_error_deg", "factor_for_95",
+                 "seed", "binning", "max_uncertainty_deg"});
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    const Acc& a = acc[m];
+    summary.row()
+        .set("method", methods[m])
+        .set("stacks", a.stacks)
+        .set("valid", a.valid)
+        .set("yield", a.stacks ? static_cast<double>(a.valid) / a.stacks : std::nan(""))
+        .set("lies", a.lies)
+        .set("lie_rate", a.valid ? static_cast<double>(a.lies) / a.valid : std::nan(""))
+        .set("inside_cone", a.inside)
+        .set("coverage", a.valid ? static_cast<double>(a.inside) / a.valid : std::nan(""))
+        .set("median_error_deg", quantile(a.errors, 0.5))
+        .set("p90_error_deg", quantile(a.errors, 0.9))
+        .set("p95_error_deg", quantile(a.errors, 0.95))
+        .set("max_error_deg", quantile(a.errors, 1.0))
+        .set("factor_for_95", quantile(a.ratios, 0.95))
+        .set("seed", static_cast<int>(o.seed))
+        .set("binning", binning)
+        .set("max_uncertainty_deg", o.max_uncertainty_deg);
+  }
+  rows.write((std::filesystem::path(o.out_dir) / "calibration.csv").string());
+  summary.write((std::filesystem::path(o.out_dir) / "calibration_summary.csv").string());
+}
+
+}  // namespace skypol::studies::tradeoff
