@@ -459,5 +459,6 @@ def render(r, g):
     add("## Commands\n")
     add("```sh\nscripts/reproduce                  # this page and its figures (builds skypol if needed)\n"
         "scripts/reproduce --small --check  # the reduced run the tests use, with its value checks\n"
-        "build/skypol reproduce all --out DIR [--small]   # the CSV and EXR data alone\n```")
+        "build/skypol reproduce all --out DIR [--small]   # the CSV and EXR data alone\n"
+        "build/skypol reproduce vrte --out DIR [--small]  # the VRTE sky's section alone (tables: SKYPOL_CACHE_DIR)\n```")
     return "\n".join(lines) + "\n"
