@@ -1,10 +1,13 @@
 // `skypol bench SCENE`: what a frame costs. Figures only; nothing here is a test.
 // --json prints the same figures and their context as one JSON object, for scripts.
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "cli/commands.h"
 #include "studies/benchmark.h"
+#include "studies/vrte_bench.h"
 #include "scene/json_text.h"
 
 namespace skypol::cli {
@@ -39,7 +42,54 @@ void print_text(const std::string& scene, const studies::BenchFigures& b) {
               b.end_to_end_ms, b.end_to_end_ms / b.openexr_write_ms);
 }
 
-void print_json(const std::string& scene, const studies::BenchFigures& b) {
+void print_vrte_text(const studies::VrteBenchFigures& v) {
+  std::printf("vrte sky              %s aerosol, tau(550) %.3g, %d streams, grid %d, solver on %d threads\n",
+              v.aerosol.c_str(), v.tau_550, v.streams, v.grid, v.solver_threads);
+  for (std::size_t i = 0; i < v.bands.size(); ++i) {
+    std::printf("  table %-3s %5.0f nm  %8.3f s to build (cold)   %8.1f ms to read (warm)\n", v.bands[i].c_str(),
+                v.wavelengths_nm[i], v.cold_build_s[i], 1e3 * v.warm_read_s[i]);
+  }
+  std::printf("  sky render          %8.1f ms/frame single scattering, %8.1f vrte (%.2fx)   (best %.1f, %.1f: %.2fx)\n",
+              v.single_render_ms, v.vrte_render_ms, v.vrte_render_ms / v.single_render_ms, v.single_render_best_ms,
+              v.vrte_render_best_ms, v.vrte_render_best_ms / v.single_render_best_ms);
+  std::printf("  render + write      %8.1f ms/frame single scattering, %8.1f vrte (%.2fx)   (render_scene, warm tables)\n",
+              v.single_end_to_end_ms, v.vrte_end_to_end_ms, v.vrte_end_to_end_ms / v.single_end_to_end_ms);
+  for (std::size_t i = 0; i < v.sweep_streams.size(); ++i) {
+    std::printf("  streams %-3d         %8.3f s to build the %s table\n", v.sweep_streams[i], v.sweep_build_s[i],
+                v.bands.front().c_str());
+  }
+}
+
+std::string vrte_json(const studies::VrteBenchFigures& v) {
+  auto list = [](const std::vector<double>& x) {
+    std::string s;
+    char buf[32];
+    for (double d : x) {
+      std::snprintf(buf, sizeof buf, "%.4f", d);
+      s += (s.empty() ? "" : ", ") + std::string(buf);
+    }
+    return "[" + s + "]";
+  };
+  std::string bands;
+  for (const std::string& b : v.bands) bands += (bands.empty() ? "" : ", ") + scene::json_quoted(b);
+  std::string streams;
+  for (int n : v.sweep_streams) streams += (streams.empty() ? "" : ", ") + std::to_string(n);
+  char buf[2048];
+  std::snprintf(buf, sizeof buf,
+                ",\n \"vrte\": {\"aerosol\": %s, \"tau_550\": %.4g, \"streams\": %d, \"grid\": %d, \"solver_threads\": %d, "
+                "\"bands\": [%s], \"wavelengths_nm\": %s, \"cold_build_s\": %s, \"warm_read_s\": %s,\n"
+                "  \"single_render_ms\": %.3f, \"vrte_render_ms\": %.3f, \"single_render_best_ms\": %.3f, "
+                "\"vrte_render_best_ms\": %.3f, \"single_end_to_end_ms\": %.3f, \"vrte_end_to_end_ms\": %.3f, "
+                "\"end_to_end_vrte_vs_single\": %.4f, \"sweep_streams\": [%s], \"sweep_build_s\": %s}",
+                scene::json_quoted(v.aerosol).c_str(), v.tau_550, v.streams, v.grid, v.solver_threads, bands.c_str(),
+                list(v.wavelengths_nm).c_str(), list(v.cold_build_s).c_str(), list(v.warm_read_s).c_str(),
+                v.single_render_ms, v.vrte_render_ms, v.single_render_best_ms, v.vrte_render_best_ms,
+                v.single_end_to_end_ms, v.vrte_end_to_end_ms, v.vrte_end_to_end_ms / v.single_end_to_end_ms,
+                streams.c_str(), list(v.sweep_build_s).c_str());
+  return buf;
+}
+
+void print_json(const std::string& scene, const studies::BenchFigures& b, const std::string& extra) {
   const studies::BenchContext& c = b.context;
   std::string channels;
   for (const std::string& ch : b.channels) channels += (channels.empty() ? "" : ", ") + scene::json_quoted(ch);
@@ -57,7 +107,7 @@ void print_json(const std::string& scene, const studies::BenchFigures& b) {
   std::printf(" \"sky_render_best_ms\": %.3f, \"sky_mpix_per_s_best\": %.3f", b.frame_render_best_ms,
               b.sky_mpix_per_s_best);
   if (b.openexr_write_ms == 0) {  // --render-only
-    std::printf("}\n");
+    std::printf("%s}\n", extra.c_str());
     return;
   }
   std::printf(",\n");
@@ -68,9 +118,9 @@ void print_json(const std::string& scene, const studies::BenchFigures& b) {
               b.skypol_write_ms, b.skypol_write_best_ms, b.render_and_write_best_ms);
   std::printf(" \"end_to_end_ms_per_frame\": %.3f,\n", b.end_to_end_ms);
   std::printf(" \"skypol_write_vs_openexr\": %.4f, \"render_and_write_best_vs_openexr_best\": %.4f, "
-              "\"end_to_end_vs_openexr\": %.4f}\n",
+              "\"end_to_end_vs_openexr\": %.4f%s}\n",
               b.skypol_write_ms / b.openexr_write_ms, b.render_and_write_best_ms / b.openexr_write_best_ms,
-              b.end_to_end_ms / b.openexr_write_ms);
+              b.end_to_end_ms / b.openexr_write_ms, extra.c_str());
 }
 
 }  // namespace
@@ -82,6 +132,8 @@ void add_bench(CLI::App& app) {
     std::string scratch = "out/bench-scratch";
     bool json = false;
     bool render_only = false;
+    bool no_vrte = false;
+    std::vector<int> vrte_streams;
   };
   auto a = std::make_shared<Args>();
   CLI::App* bench = app.add_subcommand("bench", "Measure render and write throughput on a scene");
@@ -90,13 +142,21 @@ void add_bench(CLI::App& app) {
   bench->add_option("--scratch", a->scratch, "Folder for temporary files (removed afterwards)");
   bench->add_flag("--json", a->json, "Print the figures and their context as one JSON object");
   bench->add_flag("--render-only", a->render_only, "Time the renderer only (no writing, no end-to-end run)");
+  bench->add_flag("--no-vrte", a->no_vrte,
+                  "Skip the VRTE sky's figures (table build per band, warm-table render beside single scattering)");
+  bench->add_option("--vrte-streams", a->vrte_streams,
+                    "Also time the first band's VRTE table at each of these streams values (the accuracy knob)")
+      ->check(CLI::Range(4, 64));
   bench->callback([a] {
     const scene::Scene scene = scene::load_scene(a->scene);
     const studies::BenchFigures b = studies::bench_render(scene, a->frames, a->scratch, a->render_only);
+    std::optional<studies::VrteBenchFigures> v;
+    if (!a->no_vrte) v = studies::bench_vrte(scene, a->frames, a->scratch, a->vrte_streams);
     if (a->json) {
-      print_json(a->scene, b);
+      print_json(a->scene, b, v ? vrte_json(*v) : "");
     } else {
       print_text(a->scene, b);
+      if (v) print_vrte_text(*v);
     }
   });
 }

@@ -18,6 +18,7 @@ void add_bench_occluders(CLI::App& app);
 void add_preview(CLI::App& app);
 void add_reproduce(CLI::App& app);  // the papers in simulation (studies/reproduce.h)
 void add_tradeoff(CLI::App& app);  // cli/cmd_tradeoff.cpp
+void add_table(CLI::App& app);     // cli/cmd_table.cpp: the VRTE solver in the Coulson tables' normalisation
 
 // Progress on stderr, only when stderr is a terminal and not --quiet.
 struct Progress {

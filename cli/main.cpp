@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_preview(app);
   skypol::cli::add_reproduce(app);
   skypol::cli::add_tradeoff(app);
+  skypol::cli::add_table(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

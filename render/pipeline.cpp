@@ -24,14 +24,20 @@ thread_local stack::Frame t_spare_frame;
 }  // namespace
 
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
-                          const std::function<void(std::size_t, std::size_t)>& progress) {
+                          const std::function<void(std::size_t, std::size_t)>& progress,
+                          const std::optional<std::filesystem::path>& table_cache_dir) {
   RenderReport report;
   report.path = out_path;
   report.frames = scene.times.size();
 
   const auto t_setup = Clock::now();
   std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
-  std::unique_ptr<sky::SkyModel> sky = scene::build_sky(scene.sky);
+  // One model for every band (grey skies), or one per band (vrte: tables from the cache).
+  const sky::BandSkies skies = scene::build_band_skies(scene, table_cache_dir ? *table_cache_dir : sky::default_table_cache_dir());
+  std::vector<const sky::SkyModel*> band_skies;
+  for (const auto& m : skies.skies) band_skies.push_back(m.get());
+  report.tables_built = skies.tables_built;
+  report.tables_read = skies.tables_read;
   report.width = cam->width();
   report.height = cam->height();
   std::vector<scene::Truth> truths;
@@ -66,7 +72,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   header.bands = scene.render.bands;
   header.camera_description = scene.camera.description;
   header.scene_text = scene.text;
-  header.sky_model = sky->name();
+  header.sky_model = band_skies.front()->name();
   stack::WriteOptions wo;
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
@@ -77,7 +83,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
                       [&](std::size_t i) -> const stack::Frame& {
     if (progress && i > 0) progress(i, truths.size());
     const auto t0 = Clock::now();
-    renderer.render(*sky, truths[i].sun, f);
+    renderer.render(band_skies, truths[i].sun, f);
     if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
     render_s += since(t0);
     f.truth = truths[i];

@@ -2,7 +2,9 @@
 // `skypol render` and `skypol run` do, callable from tests and benchmarks.
 #pragma once
 
+#include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "scene/scene.h"
@@ -16,10 +18,14 @@ struct RenderReport {
   double setup_seconds = 0;   // camera rays (and occlusion) and frame memory, once per stack
   double render_seconds = 0;  // sky evaluation, all frames
   double write_seconds = 0;   // encoding and writing, all frames
+  int tables_built = 0;       // VRTE tables solved (vrte sky only; 0 with warm tables)
+  int tables_read = 0;        // VRTE tables read from the cache (sky/sky_spec.h: default_table_cache_dir)
 };
 
-// progress(done, total) is called after each frame (may be empty).
+// progress(done, total) is called after each frame (may be empty). table_cache_dir: where a vrte
+// sky's tables are read and written (nullopt: sky::default_table_cache_dir(); empty: no cache).
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
-                          const std::function<void(std::size_t, std::size_t)>& progress = {});
+                          const std::function<void(std::size_t, std::size_t)>& progress = {},
+                          const std::optional<std::filesystem::path>& table_cache_dir = std::nullopt);
 
 }  // namespace skypol::render

@@ -13,7 +13,14 @@ namespace skypol::render {
 
 stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::Instant>& times) {
   if (!setup.lens) throw std::invalid_argument("record_stack: no lens");
-  const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(setup.sky);
+  // Grey skies: make_sky's one model. vrte: the band's table, from the default cache.
+  sky::SiteAtmosphere air;
+  if (setup.sun_options.pressure_hpa > 0) air.pressure_hpa = setup.sun_options.pressure_hpa;
+  air.altitude_m = setup.site.height_m;
+  air.latitude_deg = setup.site.latitude_deg;
+  const std::string bands[] = {setup.band};
+  const sky::BandSkies skies = sky::make_band_skies(setup.sky, bands, air, sky::default_table_cache_dir());
+  const sky::SkyModel* sky_model = skies.skies.front().get();
   auto cam = std::make_shared<camera::Camera>(
       setup.lens,
       camera::world_from_heading_tilt_roll(setup.heading_deg, setup.tilt_deg, setup.roll_deg));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -36,15 +38,21 @@ double uniform01(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p
 // quantities are computed from them.
 constexpr std::size_t kChunk = 256;
 
-// Where the first band's channels live (null: not asked for), and the further channels that carry
-// copies of them (the sky models are grey: other bands, and R, G, B, equal the first band).
-struct Outputs {
+// Where one band's channels live (null: not asked for).
+struct BandOutputs {
   float* s0 = nullptr;
   float* s1 = nullptr;
   float* s2 = nullptr;
   float* s3 = nullptr;
   float* dolp = nullptr;
   float* aolp = nullptr;
+};
+
+// Where the evaluated bands' channels live, and the further channels that carry copies of them.
+// A grey sky (one model) is evaluated for the first band only: the other bands, and R, G, B, are
+// copies of it. A sky with one model per band is evaluated into every band; R, G, B copy S0.R/G/B.
+struct Outputs {
+  std::vector<BandOutputs> bands;  // one per model
   float* mask = nullptr;
   std::vector<std::pair<float*, const float*>> copies;  // (destination, source), whole frames
 
@@ -55,8 +63,8 @@ struct Outputs {
 };
 
 // Gives `frame` exactly the channels these options name, each of n floats (storage reused where it
-// fits), and returns where to write.
-Outputs prepare(stack::Frame& frame, const RenderOptions& o, int w, int h) {
+// fits), and returns where to write for `models` sky models (1, or one per band).
+Outputs prepare(stack::Frame& frame, const RenderOptions& o, int w, int h, std::size_t models = 1) {
   frame.width = w;
   frame.height = h;
   const std::vector<std::string> names = channel_names(o);
@@ -66,23 +74,22 @@ Outputs prepare(stack::Frame& frame, const RenderOptions& o, int w, int h) {
   for (const std::string& name : names) stack::size_channel(frame.channels[name], n);
 
   Outputs out;
-  const std::string& b0 = o.bands.front();
   auto at = [&](const std::string& name) { return frame.channels.at(name).data(); };
-  auto first_band = [&](const char* c) { return wants(o, c) ? at(std::string(c) + "." + b0) : nullptr; };
-  out.s0 = first_band("S0");
-  out.s1 = first_band("S1");
-  out.s2 = first_band("S2");
-  out.s3 = first_band("S3");
-  out.dolp = first_band("DoLP");
-  out.aolp = first_band("AoLP");
+  auto band = [&](const std::string& b, const char* c) { return wants(o, c) ? at(std::string(c) + "." + b) : nullptr; };
+  const std::size_t evaluated = models == 1 ? 1 : o.bands.size();
+  for (std::size_t i = 0; i < evaluated; ++i) {
+    const std::string& b = o.bands[i];
+    out.bands.push_back({band(b, "S0"), band(b, "S1"), band(b, "S2"), band(b, "S3"), band(b, "DoLP"), band(b, "AoLP")});
+  }
   out.mask = wants(o, "mask") ? at("mask") : nullptr;
-  for (std::size_t i = 1; i < o.bands.size(); ++i) {
+  for (std::size_t i = evaluated; i < o.bands.size(); ++i) {
     for (const char* c : {"S0", "S1", "S2", "S3", "DoLP", "AoLP"}) {
-      if (wants(o, c)) out.copies.emplace_back(at(std::string(c) + "." + o.bands[i]), first_band(c));
+      if (wants(o, c)) out.copies.emplace_back(band(o.bands[i], c), band(o.bands.front(), c));
     }
   }
   if (is_rgb(o) && wants(o, "S0")) {
-    for (const char* c : {"R", "G", "B"}) out.copies.emplace_back(at(c), out.s0);
+    const char* rgb[] = {"R", "G", "B"};
+    for (std::size_t i = 0; i < 3; ++i) out.copies.emplace_back(at(rgb[i]), out.bands[evaluated == 1 ? 0 : i].s0);
   }
   return out;
 }
@@ -248,11 +255,26 @@ stack::Frame Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun) con
   return frame;
 }
 
+stack::Frame Renderer::render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun) const {
+  stack::Frame frame;
+  render(skies, sun, frame);
+  return frame;
+}
+
 void Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const {
+  const sky::SkyModel* one[] = {&sky};
+  render(one, sun, frame);
+}
+
+void Renderer::render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const {
+  if (skies.size() != 1 && skies.size() != options_.bands.size()) {
+    throw std::invalid_argument("renderer: " + std::to_string(skies.size()) + " sky models for " +
+                                std::to_string(options_.bands.size()) + " bands (give one, or one per band)");
+  }
   if (options_.spp == 1) {
-    render_cached(sky, sun, frame);
+    render_cached(skies, sun, frame);
   } else {
-    render_sampled(sky, sun, frame);
+    render_sampled(skies, sun, frame);
   }
 }
 
@@ -265,9 +287,10 @@ stack::Frame Renderer::new_frame() const {
 // One sample per pixel from the cached planes: per row, the model over the span of sky-seeing
 // pixels in chunks, written straight into the frame's channels (scratch for the Stokes components
 // the scene does not keep); zeros outside the span.
-void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const {
+void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun,
+                             stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
-  const Outputs out = prepare(frame, options_, w, h);
+  const Outputs out = prepare(frame, options_, w, h, skies.size());
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t width = static_cast<std::size_t>(w);
   const int tile = options_.tile_rows;
@@ -278,29 +301,36 @@ void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, stac
       const std::size_t row = static_cast<std::size_t>(y) * width;
       const RowSpan span = spans_[static_cast<std::size_t>(y)];
       const std::size_t x0 = static_cast<std::size_t>(span.x0), x1 = static_cast<std::size_t>(span.x1);
-      for (float* p : {out.s0, out.s1, out.s2, out.s3, out.dolp, out.aolp, out.mask}) {
-        fill_zero(p, row, x0);
-        fill_zero(p, row + x1, width - x1);
+      for (const BandOutputs& b : out.bands) {
+        for (float* p : {b.s0, b.s1, b.s2, b.s3, b.dolp, b.aolp}) {
+          fill_zero(p, row, x0);
+          fill_zero(p, row + x1, width - x1);
+        }
       }
+      fill_zero(out.mask, row, x0);
+      fill_zero(out.mask, row + x1, width - x1);
       for (std::size_t x = x0; x < x1; x += kChunk) {
         const std::size_t n = std::min(kChunk, x1 - x), i = row + x;
-        const sky::StokesSoA s{out.s0 ? out.s0 + i : scratch[0], out.s1 ? out.s1 + i : scratch[1],
-                               out.s2 ? out.s2 + i : scratch[2], out.s3 ? out.s3 + i : scratch[3]};
         const sky::ViewRaysSoA rays{n, dx_.data() + i, dy_.data() + i, dz_.data() + i,
                                     ux_.data() + i, uy_.data() + i, uz_.data() + i};
-        sky.stokes_soa(rays, sun, s);
         const float* weight = weight_.data() + i;
-        if (projected) {
-          for (std::size_t j = 0; j < n; ++j) {
-            if (weight[j] == 0) continue;
-            const sky::ViewRay r{{dx_[i + j], dy_[i + j], dz_[i + j]}, {ux_[i + j], uy_[i + j], uz_[i + j]}};
-            const sky::StokesF p = stack::to_projected(*camera_, r, {s.s0[j], s.s1[j], s.s2[j], s.s3[j]});
-            s.s0[j] = p.s0, s.s1[j] = p.s1, s.s2[j] = p.s2, s.s3[j] = p.s3;
+        for (std::size_t k = 0; k < out.bands.size(); ++k) {
+          const BandOutputs& b = out.bands[k];
+          const sky::StokesSoA s{b.s0 ? b.s0 + i : scratch[0], b.s1 ? b.s1 + i : scratch[1],
+                                 b.s2 ? b.s2 + i : scratch[2], b.s3 ? b.s3 + i : scratch[3]};
+          skies[k]->stokes_soa(rays, sun, s);
+          if (projected) {
+            for (std::size_t j = 0; j < n; ++j) {
+              if (weight[j] == 0) continue;
+              const sky::ViewRay r{{dx_[i + j], dy_[i + j], dz_[i + j]}, {ux_[i + j], uy_[i + j], uz_[i + j]}};
+              const sky::StokesF p = stack::to_projected(*camera_, r, {s.s0[j], s.s1[j], s.s2[j], s.s3[j]});
+              s.s0[j] = p.s0, s.s1[j] = p.s1, s.s2[j] = p.s2, s.s3[j] = p.s3;
+            }
           }
+          clear_unseen(n, weight, s);
+          if (!surface_s0_.empty()) add_surface(n, surface_s0_.data() + i, s.s0);
+          derive(n, s.s0, s.s1, s.s2, b.dolp ? b.dolp + i : nullptr, b.aolp ? b.aolp + i : nullptr);
         }
-        clear_unseen(n, weight, s);
-        if (!surface_s0_.empty()) add_surface(n, surface_s0_.data() + i, s.s0);
-        derive(n, s.s0, s.s1, s.s2, out.dolp ? out.dolp + i : nullptr, out.aolp ? out.aolp + i : nullptr);
         if (out.mask) std::memcpy(out.mask + i, weight, n * sizeof(float));
       }
     }
@@ -310,9 +340,10 @@ void Renderer::render_cached(const sky::SkyModel& sky, const sky::Sun& sun, stac
 
 // N samples per pixel: rays traced per tile and frame, Stokes averaged per pixel (samples that do
 // not see the sky count as black), the mask is the covered fraction.
-void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const {
+void Renderer::render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun,
+                              stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
-  const Outputs out = prepare(frame, options_, w, h);
+  const Outputs out = prepare(frame, options_, w, h, skies.size());
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t spp = static_cast<std::size_t>(options_.spp);
   struct Scratch {
@@ -332,38 +363,42 @@ void Renderer::render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, sta
     sc.weight.resize(pixels * spp);
     trace_tile(y0, y1, sc.rays, sc.weight);
     sc.stokes.resize(sc.rays.size());
-    sky.stokes(sc.rays, sun, sc.stokes);
-    if (projected) {
-      for (std::size_t i = 0; i < sc.rays.size(); ++i) {
-        if (sc.weight[i] > 0) sc.stokes[i] = stack::to_projected(*camera_, sc.rays[i], sc.stokes[i]);
+    for (std::size_t k = 0; k < out.bands.size(); ++k) {
+      const BandOutputs& b = out.bands[k];
+      skies[k]->stokes(sc.rays, sun, sc.stokes);
+      if (projected) {
+        for (std::size_t i = 0; i < sc.rays.size(); ++i) {
+          if (sc.weight[i] > 0) sc.stokes[i] = stack::to_projected(*camera_, sc.rays[i], sc.stokes[i]);
+        }
       }
-    }
-    sc.acc.resize(5 * pixels);
-    float* a0 = sc.acc.data();
-    float* a1 = a0 + pixels;
-    float* a2 = a1 + pixels;
-    float* a3 = a2 + pixels;
-    float* cover = a3 + pixels;
-    const sky::StokesF* st = sc.stokes.data();
-    const float* wt = sc.weight.data();
-    const float inv_spp = 1.0f / static_cast<float>(spp);
-    for (std::size_t p = 0; p < pixels; ++p) {
-      float s0 = 0, s1 = 0, s2 = 0, s3 = 0, c = 0;
-      for (std::size_t i = p * spp; i < (p + 1) * spp; ++i) {
-        s0 += wt[i] * st[i].s0;
-        s1 += wt[i] * st[i].s1;
-        s2 += wt[i] * st[i].s2;
-        s3 += wt[i] * st[i].s3;
-        c += wt[i];
+      sc.acc.resize(5 * pixels);
+      float* a0 = sc.acc.data();
+      float* a1 = a0 + pixels;
+      float* a2 = a1 + pixels;
+      float* a3 = a2 + pixels;
+      float* cover = a3 + pixels;
+      const sky::StokesF* st = sc.stokes.data();
+      const float* wt = sc.weight.data();
+      const float inv_spp = 1.0f / static_cast<float>(spp);
+      for (std::size_t p = 0; p < pixels; ++p) {
+        float s0 = 0, s1 = 0, s2 = 0, s3 = 0, c = 0;
+        for (std::size_t i = p * spp; i < (p + 1) * spp; ++i) {
+          s0 += wt[i] * st[i].s0;
+          s1 += wt[i] * st[i].s1;
+          s2 += wt[i] * st[i].s2;
+          s3 += wt[i] * st[i].s3;
+          c += wt[i];
+        }
+        a0[p] = s0 * inv_spp, a1[p] = s1 * inv_spp, a2[p] = s2 * inv_spp, a3[p] = s3 * inv_spp;
+        cover[p] = c * inv_spp;
       }
-      a0[p] = s0 * inv_spp, a1[p] = s1 * inv_spp, a2[p] = s2 * inv_spp, a3[p] = s3 * inv_spp;
-      cover[p] = c * inv_spp;
-    }
-    clear_unseen(pixels, cover, sky::StokesSoA{a0, a1, a2, a3});
-    if (!surface_s0_.empty()) add_surface(pixels, surface_s0_.data() + first, a0);
-    derive(pixels, a0, a1, a2, out.dolp ? out.dolp + first : nullptr, out.aolp ? out.aolp + first : nullptr);
-    for (auto [dst, src] : {std::pair{out.s0, a0}, {out.s1, a1}, {out.s2, a2}, {out.s3, a3}, {out.mask, cover}}) {
-      if (dst) std::memcpy(dst + first, src, pixels * sizeof(float));
+      clear_unseen(pixels, cover, sky::StokesSoA{a0, a1, a2, a3});
+      if (!surface_s0_.empty()) add_surface(pixels, surface_s0_.data() + first, a0);
+      derive(pixels, a0, a1, a2, b.dolp ? b.dolp + first : nullptr, b.aolp ? b.aolp + first : nullptr);
+      for (auto [dst, src] : {std::pair{b.s0, a0}, {b.s1, a1}, {b.s2, a2}, {b.s3, a3}}) {
+        if (dst) std::memcpy(dst + first, src, pixels * sizeof(float));
+      }
+      if (k == 0 && out.mask) std::memcpy(out.mask + first, cover, pixels * sizeof(float));
     }
     out.copy_rows(first, pixels);
   });

@@ -48,6 +48,11 @@ class Renderer {
   // page-faults) only once. Every value is rewritten; the frame's truth is left as it was.
   void render(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const;
 
+  // One sky model per band (skies[i] for options().bands[i], e.g. the VRTE sky's), or a single
+  // model for every band (then exactly the calls above). Throws std::invalid_argument otherwise.
+  stack::Frame render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun) const;
+  void render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
+
   // A frame with every channel allocated (zeros), for render(sky, sun, frame): lets a caller pay
   // for the memory before timing or rendering starts.
   stack::Frame new_frame() const;
@@ -63,8 +68,8 @@ class Renderer {
                   std::span<float> surface_s0 = {}) const;
   // Shaded occluders at spp > 1: surface_s0_ as the mean over each pixel's samples.
   void shade_sampled();
-  void render_cached(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const;
-  void render_sampled(const sky::SkyModel& sky, const sky::Sun& sun, stack::Frame& frame) const;
+  void render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
+  void render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
 
   std::shared_ptr<const camera::Camera> camera_;
   RenderOptions options_;

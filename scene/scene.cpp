@@ -203,7 +203,8 @@ Scene scene_from_source(const SceneSource& source) {
   if (!cam) top.fail("camera", "missing section [camera]");
   scene.camera = read_camera(*cam);
 
-  if (std::optional<Fields> sky = top.table("sky")) scene.sky = read_sky(*sky);
+  std::optional<Fields> sky_table = top.table("sky");
+  if (sky_table) scene.sky = read_sky(*sky_table);
   if (std::optional<Fields> occ = top.table("occluders")) scene.occluders = read_occluders(*occ);
 
   if (std::optional<Fields> r = top.table("render")) {
@@ -212,6 +213,18 @@ Scene scene_from_source(const SceneSource& source) {
     scene.render.bands = r->strings("bands", {"Y"});
     if (scene.render.bands.empty()) r->fail("bands", "needs at least one band name");
     r->finish();
+  }
+  if (scene.sky.model == "vrte") {
+    // Every band needs a wavelength, and Bodhaine's Rayleigh depth a site it is defined for.
+    try {
+      (void)sky::band_wavelengths_nm(scene.sky, scene.render.bands);
+    } catch (const std::invalid_argument& e) {
+      const std::string m = e.what();
+      sky_table->fail("wavelengths_nm", m.substr(m.find(':') + 2));
+    }
+    if (scene.site.height_m < -500 || scene.site.height_m > 10000) {
+      sky_table->fail("model", "vrte: the site's height_m must be in [-500, 10000] m (Bodhaine's Rayleigh depth)");
+    }
   }
 
   if (std::optional<Fields> sensor = top.table("sensor")) {

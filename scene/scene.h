@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -86,5 +87,12 @@ OccluderSpec read_occluders(Fields& occluders_table);
 // Built from checked specs; throws SceneError only for combinations a single key cannot catch.
 std::shared_ptr<const camera::Camera> build_camera(const CameraSpec& spec);
 std::unique_ptr<sky::SkyModel> build_sky(const sky::SkySpec& spec);
+
+// The site's air for the Rayleigh optical depth: [atmosphere] pressure_hpa, or 1013.25 hPa when it
+// is 0 or absent (refraction off: the depth still needs a pressure); the site's height and latitude.
+sky::SiteAtmosphere site_atmosphere(const Scene& scene);
+// The scene's sky per band: one model for every band (grey models, exactly build_sky), or one per
+// band (vrte), its tables read from or written to cache_dir (empty: solved, not cached).
+sky::BandSkies build_band_skies(const Scene& scene, const std::filesystem::path& cache_dir);
 
 }  // namespace skypol::scene

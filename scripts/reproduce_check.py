@@ -111,10 +111,30 @@ def check(r, g, report, figdir):
         if row["method"] == "sun_vector_ephemeris" and row["valid"] == "1":
             need(abs(float(row["latitude_error_deg"])) < 1e-9, "sun_vector_ephemeris latitude must be the site's")
 
+    # The VRTE sky: multiple scattering and aerosol lower the pole's DoLP below single scattering's at every
+    # time; every value finite; the maximum DoLP falls as the aerosol load grows at every wavelength; a Babinet
+    # point exists (within 40° of the sun) at every sun elevation; every estimator has rows, with reasons when invalid.
+    v = r["vrte"]
+    for x in v["pole"]:
+        need(0 < float(x["dolp_vrte"]) < float(x["dolp_single"]), f"vrte pole DoLP not below single scattering: {x}")
+    for x in v["neutral"]:
+        need(x["babinet_from_sun_deg"] != "" and 0 < float(x["babinet_from_sun_deg"]) < 40,
+             f"vrte Babinet point missing or far: {x}")
+    mx = v["max_dolp"]
+    for w in {x["wavelength_nm"] for x in mx}:
+        rr = sorted((float(x["tau_550"]), float(x["max_dolp"])) for x in mx if x["wavelength_nm"] == w)
+        need(all(a[1] > b[1] for a, b in zip(rr, rr[1:])), f"vrte max DoLP does not fall with aerosol at {w} nm: {rr}")
+        need(all(0 < d < 1 for _, d in rr), f"vrte max DoLP outside (0, 1) at {w} nm")
+    methods = {x["method"] for x in v["protocol_rows"]}
+    need(methods == set(g["METHODS"]), f"vrte protocol methods: {sorted(methods)}")
+    for row in v["protocol_rows"]:
+        if row["valid"] != "1":
+            need(row["why_invalid"] != "", f"vrte protocol: invalid row without a reason: {row}")
+
     # The report and its figures.
     text = open(report).read()
     for name in ("sun2019_fig7", "sun2019_epsilon", "sun2019_magnification", "skypole_fig1d", "skypole_set1",
-                 "skypole_fig3", "skypole_windows"):
+                 "skypole_fig3", "skypole_windows", "vrte_sky"):
         path = os.path.join(figdir, name + ".png")
         need(os.path.exists(path), f"figure {name} missing")
         if os.path.exists(path):

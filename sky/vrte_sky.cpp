@@ -31,7 +31,14 @@ Stokes eval(const vrte::VrteTable& t, const vrte::VrteTable::SunSlice& slice, co
   const Horizontal dh = unit_horizontal(d.x(), d.y(), sh);          // view at the zenith: the sun's azimuth
   const double c = sh.x * dh.x + sh.y * dh.y;
   const double n = sh.x * dh.y - sh.y * dh.x;
-  const vrte::StokesIQU r = t.down(slice, d.z(), c, n);
+  vrte::StokesIQU r = t.down(slice, d.z(), c, n);
+  // Interpolation in μ0 can undershoot where the sky fades to nothing (a sun within a few tenths of
+  // a degree of the horizon): no negative radiance, no degree above 1.
+  if (!(r.i > 0.0)) return {};
+  if (const double p2 = r.q * r.q + r.u * r.u; p2 > r.i * r.i) {
+    const double k = r.i / std::sqrt(p2);
+    r.q *= k, r.u *= k;
+  }
   const Eigen::Vector3d e90m(-dh.y, dh.x, 0.0);
   const Eigen::Vector3d e0m = e90m.cross(d);
   const double a = e0.dot(e0m), b = e0.dot(e90m);

@@ -21,6 +21,8 @@ namespace skypol::sky {
 //    receives no flux; twilight needs a spherical model);
 //  - a view below the horizon: the Lambertian ground's radiance, unpolarized;
 //  - a view or a sun at the zenith: the azimuth is taken from the other one (or North).
+//  - where the table's interpolation would give a negative radiance (a sun within tenths of a
+//    degree of the horizon) the sky is 0, and a degree above 1 is scaled back to 1.
 class VrteSky final : public SkyModel {
  public:
   // Throws std::invalid_argument for a null or empty table.

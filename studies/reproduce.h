@@ -20,6 +20,8 @@ struct ReproduceOptions {
 
 void reproduce_sun2019(const ReproduceOptions& options);
 void reproduce_skypole(const ReproduceOptions& options);
+// The SkyPole set-up under the VRTE sky beside single scattering (studies/reproduce_vrte.cpp).
+void reproduce_vrte(const ReproduceOptions& options);
 
 // Writes `text` to dir/name under a temporary name, renamed when complete; returns the path.
 std::string write_text(const std::string& dir, const std::string& name, const std::string& text);

@@ -29,6 +29,9 @@ const Expect kDefault{1.0, false, 5.0};
 const std::map<std::string, Expect> kExpect{
     {"skypole-marseille", {0.1, true, 1.5}},
     {"skypole-marseille-dofp", {2.0, true, 5.0}},  // sensor noise and a 12-bit ADC
+    // The multiple-scattering sky is not the single-scattering pattern the estimators assume: at
+    // binning 16 great_circle's pole is 8.3° off and classic's 4.0° (latitude; bearings < 0.13°).
+    {"skypole-marseille-vrte", {17.0, true, 8.0}},
     {"hard-tilted-camera", {0.1, true, 1.0}},
     {"hard-southern", {0.1, true, 2.0}},
     {"hard-polar-day", {0.1, true, 1.0}},
@@ -75,8 +78,11 @@ TEST_CASE("every shipped scene renders and estimates at 1/16 resolution", "[cli]
   const fs::path stacks = dir.path / "stacks";
   fs::create_directories(stacks);
   for (const fs::path& scene : scenes) {
-    const Result r = run("render -q " + scene.string() + " --set camera.binning=16 -o " +
-                         (stacks / (scene.stem().string() + ".exr")).string());
+    // A vrte scene's tables go to the test's folder, never the user's cache.
+    const Result r = skypol::test::run_shell("SKYPOL_CACHE_DIR=" + (dir.path / "tables").string() + " " +
+                                             skypol::test::skypol_bin() + " render -q " + scene.string() +
+                                             " --set camera.binning=16 -o " +
+                                             (stacks / (scene.stem().string() + ".exr")).string());
     INFO(scene << ":\n" << r.out);
     CHECK(r.code == 0);
   }

@@ -196,3 +196,63 @@ TEST_CASE("the raw mosaic is a channel only with a sensor", "[scene][sensor][err
   CHECK_THAT(error_of(kHead + cam + "[output]\nchannels = [\"DoLP\", \"raw\"]\n"),
              Catch::Contains("output.channels") && Catch::Contains("needs a [sensor]"));
 }
+
+TEST_CASE("vrte sky keys: aerosol, albedo, accuracy, wavelengths; errors at the key", "[scene][sky][vrte]") {
+  const std::string cam = "[camera]\nfx = 20\nwidth = 64\nheight = 64\n";
+  const auto s = parse_scene(kHead + cam + R"([sky]
+model = "vrte"
+ground_albedo = 0.2
+streams = 8
+grid = 17
+[sky.aerosol]
+type = "maritime_clean"
+tau_550 = 0.05
+angstrom = 0.4
+ssa = 0.98
+[render]
+bands = ["R", "G", "B"]
+)", "vrte.toml");
+  CHECK(s.sky.model == "vrte");
+  CHECK(s.sky.ground_albedo == 0.2);
+  CHECK(s.sky.streams == 8);
+  CHECK(s.sky.grid == 17);
+  CHECK(s.sky.aerosol.type == "maritime_clean");
+  CHECK(s.sky.aerosol.tau_550 == 0.05);
+  CHECK(s.sky.aerosol.angstrom == 0.4);
+  CHECK(s.sky.aerosol.ssa == 0.98);
+  // No pressure in the scene: the Rayleigh depth uses 1013.25 hPa; the site's height and latitude.
+  CHECK(scene::site_atmosphere(s).pressure_hpa == 1013.25);
+  CHECK(scene::site_atmosphere(s).latitude_deg == 43.28699);
+
+  const auto custom = parse_scene(kHead + cam + "[sky]\nmodel = \"vrte\"\nwavelengths_nm = [440]\n"
+                                  "[sky.aerosol]\ntype = \"custom\"\nmedian_radius_um = 0.2\ngeometric_std = 1.8\n"
+                                  "refractive_real = 1.45\nrefractive_imag = 0.01\n", "c.toml");
+  CHECK(custom.sky.wavelengths_nm == std::vector<double>{440});
+  CHECK(custom.sky.aerosol.median_radius_um == 0.2);
+  CHECK(custom.sky.aerosol.refractive_imag == 0.01);
+
+  // Each error names the file, the line and column of the key, and the key.
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"rayleigh\"\nground_albedo = 0.2\n"),
+             Catch::StartsWith("bad.toml:14:17") && Catch::Contains("'sky.ground_albedo'") &&
+                 Catch::Contains("only by model \"vrte\""));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\nmax_dolp = 0.8\n"),
+             Catch::StartsWith("bad.toml:14:12") && Catch::Contains("'sky.max_dolp'") &&
+                 Catch::Contains("not used by model \"vrte\""));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\n[sky.aerosol]\ntau_550 = 20\n"),
+             Catch::StartsWith("bad.toml:15:11") && Catch::Contains("'sky.aerosol.tau_550'") &&
+                 Catch::Contains("[0, 10]"));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\n[sky.aerosol]\ntype = \"volcanic\"\n"),
+             Catch::StartsWith("bad.toml:15:8") && Catch::Contains("'sky.aerosol.type'") &&
+                 Catch::Contains("continental_clean"));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\n[sky.aerosol]\nmedian_radius_um = 0.3\n"),
+             Catch::StartsWith("bad.toml:15:20") && Catch::Contains("only by type \"custom\""));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\nstreams = 2\n"),
+             Catch::StartsWith("bad.toml:14:11") && Catch::Contains("'sky.streams'"));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\nwavelengths_nm = [450, 550]\n"),
+             Catch::StartsWith("bad.toml:14:18") && Catch::Contains("'sky.wavelengths_nm'") &&
+                 Catch::Contains("2 wavelength(s) for 1 band(s)"));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\n[render]\nbands = [\"NIR\"]\n"),
+             Catch::Contains("'sky.wavelengths_nm'") && Catch::Contains("band \"NIR\""));
+  CHECK_THAT(error_of(kHead + cam + "[sky]\nmodel = \"vrte\"\n[sky.aerosol]\ntpye = \"urban\"\n"),
+             Catch::Contains("unknown key 'sky.aerosol.tpye'") && Catch::Contains("did you mean 'sky.aerosol.type'"));
+}

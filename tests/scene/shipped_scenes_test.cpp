@@ -64,6 +64,21 @@ fov_deg = 185
   CHECK(!s.sensor);  // ideal Stokes: the sensor is skypole-marseille-dofp.toml's
 }
 
+TEST_CASE("skypole-marseille-vrte is the paper's scene under the VRTE sky, in three bands", "[scenes]") {
+  const scene::Scene s = load_scene(scene_path("skypole-marseille-vrte.toml"));
+  const scene::Scene paper = load_scene(scene_path("skypole-marseille.toml"));
+  CHECK(s.camera.description == paper.camera.description);
+  CHECK(s.site.latitude_deg == paper.site.latitude_deg);
+  CHECK(s.site.height_m == paper.site.height_m);
+  REQUIRE(s.times.size() == paper.times.size());
+  for (std::size_t i = 0; i < s.times.size(); ++i) CHECK(s.times[i].unix_seconds == paper.times[i].unix_seconds);
+  CHECK(s.sky.model == "vrte");
+  CHECK(s.sky.aerosol.type == "continental_clean");
+  CHECK(s.sky.aerosol.tau_550 == 0.1);
+  CHECK(s.render.bands == std::vector<std::string>{"R", "G", "B"});
+  CHECK(sky::band_wavelengths_nm(s.sky, s.render.bands) == std::vector<double>{610, 530, 465});
+}
+
 TEST_CASE("sun2019-hefei gives Sun et al. 2019 Table 1's sun elevations", "[scenes]") {
   const scene::Scene s = load_scene(scene_path("sun2019-hefei.toml"));
   // Table 1, "90° − θs" at 8:30, 10:00, 11:05, 14:28, 15:38, 17:00 local time (UTC+8).
