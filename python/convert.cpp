@@ -76,7 +76,10 @@ py::dict estimate_to_dict(const skypole::PoleEstimate& e) {
   d["heading_deg"] = none_or(e.heading_deg);
   d["is_north"] = e.is_north;
   d["residual_deg"] = e.residual_deg;
-  d["confidence"] = e.confidence;
+  d["sigma_bearing_deg"] = e.sigma_bearing_deg;
+  d["sigma_latitude_deg"] = e.sigma_latitude_deg;
+  d["sigma_deg"] = e.sigma_deg;
+  d["cone95_deg"] = e.cone95_deg;
   d["seconds"] = e.seconds;
   return d;
 }

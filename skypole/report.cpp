@@ -172,8 +172,6 @@ void print_estimate(const EstimateRequest& r) {
       p.keep_intermediates = true;
       ClassicResult c = estimate_classic(stack, p);
       write_intermediates(c.images, r.intermediates, r.path);
-      e = std::move(c.estimate);
-      write_intermediates(c.images, r.intermediates);
       // The same uncertainty and bound as every other route (run_method).
       e = run_method(stack, "classic", r.input);
     } else {

@@ -360,7 +360,7 @@ Estimate = dataclasses.make_dataclass(
         "to_dict": lambda self: dataclasses.asdict(self),
         "__module__": __name__,
         "__doc__": "An estimator's result: every field of skypole::PoleEstimate (skypole/estimate.h; "
-                   "valid, why_invalid, note, latitude_deg, heading_deg, residual_deg, confidence, "
+                   "valid, why_invalid, note, latitude_deg, heading_deg, residual_deg, sigma_bearing_deg, sigma_latitude_deg, sigma_deg, cone95_deg, "
                    "seconds, …) and score (errors against the stack's truth; None when invalid).",
     })
 
