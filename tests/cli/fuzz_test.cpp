@@ -8,9 +8,9 @@
 //   - a failure leaves nothing behind (no output, no temporary);
 //   - a file written holds no NaN or Inf (read back with the stack reader).
 // SKYPOL_FUZZ_SEED picks another seed, SKYPOL_FUZZ_SCENES / SKYPOL_FUZZ_STACKS other counts
-// (defaults 100 and 20: each run of skypol costs ~0.3 s of CPU, mostly loading its libraries, so
-// the suite's share stays near a minute on 2 cores; a longer hunt sets them higher); a failing
-// mutant is printed whole so that it can be replayed by hand.
+// (defaults 300 and 40: with OpenImageIO out of the start-up a run of skypol costs milliseconds
+// beyond its tiny render, so the suite's share is ~30 s on 2 cores; a longer hunt sets them
+// higher); a failing mutant is printed whole so that it can be replayed by hand.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -149,7 +149,7 @@ std::set<std::string> names_in(const fs::path& dir) {
 TEST_CASE("fuzz: mutants of the shipped scenes exit 0 or 2, located, leaving nothing or a finite stack",
           "[cli][fuzz]") {
   const std::uint32_t seed = env_or("SKYPOL_FUZZ_SEED", 20261201);
-  const std::uint32_t count = env_or("SKYPOL_FUZZ_SCENES", 100);
+  const std::uint32_t count = env_or("SKYPOL_FUZZ_SCENES", 300);
   std::mt19937 rng(seed);
   const fs::path shipped = fs::path(SKYPOL_SOURCE_DIR) / "scenes";
   std::vector<std::pair<std::string, std::string>> scenes;
@@ -201,7 +201,7 @@ TEST_CASE("fuzz: mutants of the shipped scenes exit 0 or 2, located, leaving not
 
 TEST_CASE("fuzz: mutants of a stack file are read, estimated and previewed with exit 0 or 2", "[cli][fuzz]") {
   const std::uint32_t seed = env_or("SKYPOL_FUZZ_SEED", 20261201);
-  const std::uint32_t count = env_or("SKYPOL_FUZZ_STACKS", 20);
+  const std::uint32_t count = env_or("SKYPOL_FUZZ_STACKS", 40);
   std::mt19937 rng(seed + 1);
   TempDir dir;
   const std::string scene = dir.write("small.toml", R"([site]
