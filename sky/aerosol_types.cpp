@@ -7,19 +7,13 @@
 #include <stdexcept>
 
 #include "sky/optical_depth.h"
+#include "sky/spec_errors.h"
 
 namespace skypol::sky {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-[[noreturn]] void bad(const std::string& field, const std::string& message) {
-  throw std::invalid_argument("sky.aerosol." + field + ": " + message);
-}
+// The field names below are relative to "sky.aerosol" (sky/spec_errors.h words the message).
+[[noreturn]] void bad(const std::string& field, const std::string& message) { spec_error("sky.aerosol." + field, message); }
 
 // OPAC components, dry (Hess et al. 1998, Table 1): median radius r_mod (µm), σ, r_min, r_max (µm);
 // refractive index at 550 nm (OPAC/GADS, Koepke et al. 1997; the WMO (1986, WCP-112) values for
@@ -92,29 +86,29 @@ void validate(const AerosolSpec& s) {
   if (!custom && s.type != "none") (void)aerosol_type(s.type);
   if (custom) {
     if (!(std::isfinite(s.median_radius_um) && s.median_radius_um >= 1e-4 && s.median_radius_um <= 20.0)) {
-      bad("median_radius_um", num(s.median_radius_um) + " is outside [0.0001, 20] µm");
+      bad("median_radius_um", spec_number(s.median_radius_um) + " is outside [0.0001, 20] µm");
     }
     if (!(std::isfinite(s.geometric_std) && s.geometric_std > 1.0 && s.geometric_std <= 3.0)) {
-      bad("geometric_std", num(s.geometric_std) + " is outside (1, 3]");
+      bad("geometric_std", spec_number(s.geometric_std) + " is outside (1, 3]");
     }
     if (!(std::isfinite(s.refractive_real) && s.refractive_real >= 1.0 && s.refractive_real <= 3.0)) {
-      bad("refractive_real", num(s.refractive_real) + " is outside [1, 3]");
+      bad("refractive_real", spec_number(s.refractive_real) + " is outside [1, 3]");
     }
     if (!(std::isfinite(s.refractive_imag) && s.refractive_imag >= 0.0 && s.refractive_imag <= 2.0)) {
-      bad("refractive_imag", num(s.refractive_imag) + " is outside [0, 2] (k ≥ 0: absorption)");
+      bad("refractive_imag", spec_number(s.refractive_imag) + " is outside [0, 2] (k ≥ 0: absorption)");
     }
     if (s.refractive_real == 1.0 && s.refractive_imag == 0.0) {
       bad("refractive_real", "1 with refractive_imag 0 is the medium itself: such particles scatter nothing");
     }
   }
   if (!(std::isfinite(s.tau_550) && s.tau_550 >= 0.0 && s.tau_550 <= 10.0)) {
-    bad("tau_550", num(s.tau_550) + " is outside [0, 10]");
+    bad("tau_550", spec_number(s.tau_550) + " is outside [0, 10]");
   }
   if (s.angstrom && !(std::isfinite(*s.angstrom) && *s.angstrom >= -1.0 && *s.angstrom <= 4.0)) {
-    bad("angstrom", num(*s.angstrom) + " is outside [−1, 4]");
+    bad("angstrom", spec_number(*s.angstrom) + " is outside [−1, 4]");
   }
   if (s.ssa && !(std::isfinite(*s.ssa) && *s.ssa >= 0.0 && *s.ssa <= 1.0)) {
-    bad("ssa", num(*s.ssa) + " is outside [0, 1]");
+    bad("ssa", spec_number(*s.ssa) + " is outside [0, 1]");
   }
   if (!(s.angle_nodes >= 16 && s.angle_nodes <= 4096)) {
     bad("angle_nodes", std::to_string(s.angle_nodes) + " is outside [16, 4096]");

@@ -11,6 +11,7 @@
 #include "sky/depolarization.h"
 #include "sky/intensity.h"
 #include "sky/optical_depth.h"
+#include "sky/spec_errors.h"
 #include "sky/rayleigh.h"
 #include "sky/sun_disc.h"
 #include "sky/vrte_sky.h"
@@ -19,19 +20,12 @@
 namespace skypol::sky {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
-[[noreturn]] void bad(const std::string& field, const std::string& message) {
-  throw std::invalid_argument("sky." + field + ": " + message);
-}
+// The field names below are relative to "sky" (sky/spec_errors.h words the message).
+[[noreturn]] void bad(const std::string& field, const std::string& message) { spec_error("sky." + field, message); }
 
 void check_range(const std::string& field, double v, double lo, double hi, const std::string& why = "") {
   if (!(v >= lo && v <= hi)) {
-    bad(field, num(v) + " is outside [" + num(lo) + ", " + num(hi) + "]" + (why.empty() ? "" : " (" + why + ")"));
+    bad(field, spec_number(v) + " is outside [" + spec_number(lo) + ", " + spec_number(hi) + "]" + (why.empty() ? "" : " (" + why + ")"));
   }
 }
 
@@ -45,7 +39,7 @@ void validate(const SkySpec& s) {
     bad("intensity", "\"" + s.intensity + "\" is unknown (expected uniform, rayleigh or preetham)");
   }
   if (!(std::isfinite(s.turbidity) && s.turbidity >= 1.0)) {
-    bad("turbidity", num(s.turbidity) + " must be ≥ 1 (1 = a pure molecular atmosphere)");
+    bad("turbidity", spec_number(s.turbidity) + " must be ≥ 1 (1 = a pure molecular atmosphere)");
   }
   if (s.intensity == "preetham") check_range("turbidity", s.turbidity, 2.0, 10.0, "Preetham's fit");
   if (!s.max_dolp_from_turbidity) check_range("max_dolp", s.max_dolp, 0.0, 1.0);
@@ -55,15 +49,15 @@ void validate(const SkySpec& s) {
         "\"" + s.berry_normalisation + "\" is unknown (expected split_rayleigh or opensky)");
   }
   if (!(std::isfinite(s.sun_disc_radiance) && s.sun_disc_radiance >= 0.0)) {
-    bad("sun_disc_radiance", num(s.sun_disc_radiance) + " must be ≥ 0");
+    bad("sun_disc_radiance", spec_number(s.sun_disc_radiance) + " must be ≥ 0");
   }
   check_range("clouds.coverage", s.clouds.coverage, 0.0, 1.0);
   check_range("clouds.scale_deg", s.clouds.scale_deg, 1.0, 90.0);
   if (!(s.clouds.softness > 0.0 && s.clouds.softness <= 1.0)) {
-    bad("clouds.softness", num(s.clouds.softness) + " is outside (0, 1]");
+    bad("clouds.softness", spec_number(s.clouds.softness) + " is outside (0, 1]");
   }
   if (!(std::isfinite(s.clouds.brightness) && s.clouds.brightness >= 1.0)) {
-    bad("clouds.brightness", num(s.clouds.brightness) + " must be ≥ 1 (cloud is brighter than the sky behind it)");
+    bad("clouds.brightness", spec_number(s.clouds.brightness) + " must be ≥ 1 (cloud is brighter than the sky behind it)");
   }
   if (s.model != "vrte") return;
   validate(s.aerosol);  // "sky.aerosol.<field>: …"
