@@ -5,10 +5,25 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace skypol::sky {
 namespace {
 constexpr double kPi = std::numbers::pi;
+
+// Pₙ(z) and Pₙ'(z) by the three-term recurrence, |z| < 1.
+std::pair<double, double> legendre_derivative(int n, double z) {
+  double p0 = 1.0, p1 = z;
+  for (int k = 2; k <= n; ++k) {
+    const double fk = static_cast<double>(k);
+    const double p2 = ((2.0 * fk - 1.0) * z * p1 - (fk - 1.0) * p0) / fk;
+    p0 = p1;
+    p1 = p2;
+  }
+  if (n == 1) p0 = 1.0;
+  return {p1, static_cast<double>(n) * (z * p1 - p0) / (z * z - 1.0)};
+}
+
 }  // namespace
 
 void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weights) {
@@ -21,33 +36,13 @@ void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weig
     // Tricomi's initial guess for the i-th largest root, then Newton on Pₙ.
     const double th = kPi * (static_cast<double>(i) + 0.75) / (fn + 0.5);
     double z = std::cos(th) * (1.0 - (fn - 1.0) / (8.0 * fn * fn * fn));
-    double dp = 1.0;
     for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double fk = static_cast<double>(k);
-        const double p2 = ((2.0 * fk - 1.0) * z * p1 - (fk - 1.0) * p0) / fk;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) p0 = 1.0;
-      dp = fn * (z * p1 - p0) / (z * z - 1.0);
-      const double dz = p1 / dp;
+      const auto [p, d] = legendre_derivative(n, z);
+      const double dz = p / d;
       z -= dz;
       if (std::abs(dz) < 1e-16) break;
     }
-    // Recompute the derivative at the converged root for the weight.
-    {
-      double p0 = 1.0, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double fk = static_cast<double>(k);
-        const double p2 = ((2.0 * fk - 1.0) * z * p1 - (fk - 1.0) * p0) / fk;
-        p0 = p1;
-        p1 = p2;
-      }
-      if (n == 1) p0 = 1.0;
-      dp = fn * (z * p1 - p0) / (z * z - 1.0);
-    }
+    const double dp = legendre_derivative(n, z).second;  // at the converged root, for the weight
     const double wgt = 2.0 / ((1.0 - z * z) * dp * dp);
     const std::size_t hi = nn - 1 - static_cast<std::size_t>(i), lo = static_cast<std::size_t>(i);
     nodes[hi] = z;
