@@ -2,6 +2,7 @@
 #include "camera/colmap_import.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "camera/calibration_import.h"
 #include "camera/kannala_brandt.h"
 
 namespace skypol::camera {
@@ -41,6 +43,7 @@ LensSpec lens_spec_from_colmap(std::string_view line) {
   LensSpec s;
   s.width = width;
   s.height = height;
+  std::array<double, 4> kb{};  // the Kannala-Brandt coefficients of the three radial fisheye models
   if (model == "OPENCV_FISHEYE") {
     need(8, "fx, fy, cx, cy, k1, k2, k3, k4");
     s.model = "kannala_brandt";
@@ -48,7 +51,24 @@ LensSpec lens_spec_from_colmap(std::string_view line) {
     s.fy = p[1];
     s.cx = p[2] - 0.5;
     s.cy = p[3] - 0.5;
-    s.coefficients = {p[4], p[5], p[6], p[7]};
+    kb = {p[4], p[5], p[6], p[7]};
+  } else if (model == "SIMPLE_RADIAL_FISHEYE" || model == "RADIAL_FISHEYE") {
+    // θd = θ·(1 + k·θ²) and θ·(1 + k1·θ² + k2·θ⁴): Kannala-Brandt with the higher terms zero.
+    const bool simple = model == "SIMPLE_RADIAL_FISHEYE";
+    need(simple ? 4 : 5, simple ? "f, cx, cy, k" : "f, cx, cy, k1, k2");
+    s.model = "kannala_brandt";
+    s.fx = s.fy = p[0];
+    s.cx = p[1] - 0.5;
+    s.cy = p[2] - 0.5;
+    kb = {p[3], simple ? 0.0 : p[4], 0.0, 0.0};
+  } else if (model == "THIN_PRISM_FISHEYE") {
+    need(12, "fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, sx1, sy1");
+    s.model = "thin_prism_fisheye";
+    s.fx = p[0];
+    s.fy = p[1];
+    s.cx = p[2] - 0.5;
+    s.cy = p[3] - 0.5;
+    s.coefficients.assign(p.begin() + 4, p.end());
   } else if (model == "PINHOLE" || model == "SIMPLE_PINHOLE") {
     const bool simple = model == "SIMPLE_PINHOLE";
     need(simple ? 3 : 4, simple ? "f, cx, cy" : "fx, fy, cx, cy");
@@ -59,11 +79,17 @@ LensSpec lens_spec_from_colmap(std::string_view line) {
     s.cy = p[simple ? 2 : 3] - 0.5;
   } else {
     throw std::invalid_argument("COLMAP camera model \"" + model +
-                                "\" is not supported (supported: OPENCV_FISHEYE, PINHOLE, SIMPLE_PINHOLE)");
+                                "\" is not supported (supported: SIMPLE_RADIAL_FISHEYE, RADIAL_FISHEYE, OPENCV_FISHEYE, "
+                                "THIN_PRISM_FISHEYE, PINHOLE, SIMPLE_PINHOLE)");
   }
   if (!(*s.fx > 0) || !(*s.fy > 0)) throw std::invalid_argument("COLMAP camera line: focal lengths must be > 0");
   if (width < 1 || height < 1) throw std::invalid_argument("COLMAP camera line: width and height must be > 0");
 
+  if (s.model == "thin_prism_fisheye") {
+    fit_fov_to_sensor(s);
+    return s;
+  }
+  if (s.model == "kannala_brandt") s.coefficients = {kb[0], kb[1], kb[2], kb[3]};
   // Field of view: the angle of the farthest sensor corner (pixel-edge corners).
   double r_corner = 0;
   for (double u : {-0.5, width - 0.5})
@@ -78,10 +104,9 @@ LensSpec lens_spec_from_colmap(std::string_view line) {
     k.fy = *s.fy;
     k.cx = *s.cx;
     k.cy = *s.cy;
-    const KannalaBrandtLens kb(k, {p[4], p[5], p[6], p[7]}, std::numbers::pi,
-                               KannalaBrandtLens::OnTurnover::clamp_fov);
-    const auto d = kb.ray({k.cx + k.fx * r_corner, k.cy});
-    theta = d ? std::atan2(std::hypot(d->x(), d->y()), d->z()) : kb.max_field_angle();
+    const KannalaBrandtLens lens(k, kb, std::numbers::pi, KannalaBrandtLens::OnTurnover::clamp_fov);
+    const auto d = lens.ray({k.cx + k.fx * r_corner, k.cy});
+    theta = d ? std::atan2(std::hypot(d->x(), d->y()), d->z()) : lens.max_field_angle();
     s.clamp_fov_to_monotone = true;
   }
   s.fov_deg = 2 * theta * 180 / std::numbers::pi;

@@ -1,6 +1,9 @@
 // Lens descriptions from COLMAP and OpenCV calibrations, so their users recognise the numbers.
 // COLMAP cameras.txt lines: "CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]" (colmap/sensor/models.h);
+//   SIMPLE_RADIAL_FISHEYE: f, cx, cy, k               → kannala_brandt (k, 0, 0, 0)
+//   RADIAL_FISHEYE:        f, cx, cy, k1, k2          → kannala_brandt (k1, k2, 0, 0)
 //   OPENCV_FISHEYE: fx, fy, cx, cy, k1, k2, k3, k4 → kannala_brandt
+//   THIN_PRISM_FISHEYE: fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, sx1, sy1 → thin_prism_fisheye
 //   PINHOLE:        fx, fy, cx, cy                 → perspective
 //   SIMPLE_PINHOLE: f, cx, cy                      → perspective
 // COLMAP puts pixel centres at +0.5, skypol (and OpenCV) at 0: cx, cy are shifted by −0.5.

@@ -8,11 +8,14 @@
 #include <stdexcept>
 
 #include "camera/double_sphere.h"
+#include "camera/eucm.h"
+#include "camera/mei_lens.h"
 #include "camera/intrinsics.h"
 #include "camera/kannala_brandt.h"
 #include "camera/ocam_lens.h"
 #include "camera/radial_lens.h"
 #include "camera/tabulated_lens.h"
+#include "camera/thin_prism_fisheye.h"
 
 namespace skypol::camera {
 namespace {
@@ -80,9 +83,12 @@ std::shared_ptr<const Lens> build(const LensSpec& s) {
   const std::string& m = s.model;
   const bool radial = std::find(lens_model_names().begin(), lens_model_names().begin() + 5, m) !=
                       lens_model_names().begin() + 5;
-  if (m != "kannala_brandt" && m != "double_sphere") unused(!s.coefficients.empty(), "coefficients", m);
+  const bool with_coefficients = m == "kannala_brandt" || m == "double_sphere" || m == "thin_prism_fisheye" ||
+                                 m == "mei" || m == "eucm";
+  if (!with_coefficients) unused(!s.coefficients.empty(), "coefficients", m);
+  if (m != "mei") unused(s.skew.has_value(), "skew", m);
   if (m != "tabulated") unused(!s.table.empty(), "table", m);
-  if (m != "ocam") unused(!s.ocamcalib_path.empty(), "ocamcalib_path", m);
+  if (m != "ocam") unused(!s.ocamcalib_path.empty() || !s.ocamcalib_text.empty(), "ocamcalib_path", m);
   if (m != "kannala_brandt") unused(s.clamp_fov_to_monotone, "clamp_fov_to_monotone", m);
 
   if (radial) {
@@ -103,6 +109,27 @@ std::shared_ptr<const Lens> build(const LensSpec& s) {
       fail("coefficients: double_sphere needs 2 (xi alpha), got " + std::to_string(s.coefficients.size()));
     return std::make_shared<DoubleSphereLens>(pinhole_intrinsics(s), s.coefficients[0],
                                               s.coefficients[1], half_fov(s, true));
+  }
+  auto need_coefficients = [&](std::size_t n, const char* order) {
+    if (s.coefficients.size() != n)
+      fail("coefficients: " + m + " needs " + std::to_string(n) + " (" + order + "), got " +
+           std::to_string(s.coefficients.size()));
+  };
+  if (m == "thin_prism_fisheye") {
+    need_coefficients(8, "k1 k2 p1 p2 k3 k4 sx1 sy1");
+    std::array<double, 8> c{};
+    std::copy(s.coefficients.begin(), s.coefficients.end(), c.begin());
+    return std::make_shared<ThinPrismFisheyeLens>(pinhole_intrinsics(s), c, half_fov(s, true));
+  }
+  if (m == "mei") {
+    need_coefficients(5, "xi k1 k2 p1 p2");
+    const auto& c = s.coefficients;
+    return std::make_shared<MeiLens>(pinhole_intrinsics(s), s.skew.value_or(0.0), c[0],
+                                     std::array<double, 4>{c[1], c[2], c[3], c[4]}, half_fov(s, true));
+  }
+  if (m == "eucm") {
+    need_coefficients(2, "alpha beta");
+    return std::make_shared<EucmLens>(pinhole_intrinsics(s), s.coefficients[0], s.coefficients[1], half_fov(s, true));
   }
   if (m == "tabulated") {
     unused(s.fx.has_value() || s.fy.has_value(), "fx/fy", m);
@@ -135,8 +162,9 @@ std::shared_ptr<const Lens> build(const LensSpec& s) {
                                 {s.cx.has_value(), "cx"}, {s.cy.has_value(), "cy"},
                                 {s.focal_mm.has_value(), "focal_mm"}, {s.pitch_um.has_value(), "pitch_um"}})
       if (given) fail(std::string(field) + ": not used by model ocam (the calibration file sets it)");
-    if (s.ocamcalib_path.empty()) fail("ocamcalib_path is required for model ocam");
-    const OCamModel om = load_ocamcalib(s.ocamcalib_path);
+    if (s.ocamcalib_path.empty() && s.ocamcalib_text.empty()) fail("ocamcalib_path is required for model ocam");
+    const OCamModel om = s.ocamcalib_text.empty() ? load_ocamcalib(s.ocamcalib_path)
+                                                  : parse_ocamcalib(s.ocamcalib_text, s.ocamcalib_path.empty() ? "calib_results.txt" : s.ocamcalib_path);
     if (s.width != 0 && s.width != om.width)
       fail("width " + std::to_string(s.width) + " differs from the calibration's " + std::to_string(om.width));
     if (s.height != 0 && s.height != om.height)
@@ -153,7 +181,8 @@ std::shared_ptr<const Lens> build(const LensSpec& s) {
 const std::vector<std::string_view>& lens_model_names() {
   static const std::vector<std::string_view> names = {
       "perspective",    "stereographic", "equidistant", "equisolid", "orthographic",
-      "kannala_brandt", "double_sphere", "ocam",        "tabulated"};
+      "kannala_brandt", "double_sphere", "ocam",        "tabulated",  "thin_prism_fisheye",
+      "mei",            "eucm"};
   return names;
 }
 

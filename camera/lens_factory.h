@@ -16,7 +16,7 @@ namespace skypol::camera {
 
 struct LensSpec {
   // perspective | stereographic | equidistant | equisolid | orthographic | kannala_brandt |
-  // double_sphere | ocam | tabulated
+  // double_sphere | ocam | tabulated | thin_prism_fisheye | mei | eucm
   std::string model;
   int width = 0, height = 0;  // sensor pixels; required except for ocam (from the file)
   // Scale: fx [fy defaults to fx] in pixels, or focal_mm with pitch_um (not both).
@@ -24,9 +24,13 @@ struct LensSpec {
   std::optional<double> fx, fy, focal_mm, pitch_um;
   std::optional<double> cx, cy;   // principal point, OpenCV centres; default ((w−1)/2, (h−1)/2)
   std::optional<double> fov_deg;  // full field of view 2θmax; required except ocam/tabulated
-  std::vector<double> coefficients;  // kannala_brandt: k1 k2 k3 k4; double_sphere: xi alpha
+  std::optional<double> skew;     // mei: K(0,1) of cv::omnidir, pixels (default 0)
+  // kannala_brandt: k1 k2 k3 k4; double_sphere: xi alpha; thin_prism_fisheye: k1 k2 p1 p2 k3 k4
+  // sx1 sy1 (COLMAP's order); mei: xi k1 k2 p1 p2; eucm: alpha beta
+  std::vector<double> coefficients;
   std::vector<std::pair<double, double>> table;  // tabulated: (field angle deg, height mm)
   std::string ocamcalib_path;                    // ocam: calib_results.txt
+  std::string ocamcalib_text;  // ocam: that file's contents; when set, the file is not opened
   bool clamp_fov_to_monotone = false;  // kannala_brandt: cut the FOV at a turning point
   int binning = 1;                     // b×b binning applied after building (≥ 1)
 };

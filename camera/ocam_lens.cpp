@@ -33,6 +33,14 @@ std::vector<double> read_numbers(const std::string& text) {
 OCamModel load_ocamcalib(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path.string() + ": cannot open OCamCalib calibration file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_ocamcalib(text.str(), path.string());
+}
+
+OCamModel parse_ocamcalib(const std::string& text, const std::string& name) {
+  std::istringstream in(text);
+  const std::filesystem::path path(name);
   std::vector<DataLine> lines;
   std::string s;
   for (int n = 1; std::getline(in, s); ++n) {

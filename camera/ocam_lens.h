@@ -11,6 +11,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "camera/lens.h"
@@ -29,6 +30,8 @@ struct OCamModel {
 // "N a0 .. aN-1", "M p0 .. pM-1", "xc yc", "c d e", "height width"). Throws
 // std::invalid_argument naming the file and the line that is missing or malformed.
 OCamModel load_ocamcalib(const std::filesystem::path& path);
+// The same from the file's text (a stack header carries it); `name` labels the messages.
+OCamModel parse_ocamcalib(const std::string& text, const std::string& name);
 
 class OCamLens final : public Lens {
  public:
