@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "camera/calibration_import.h"
 #include "camera/camera.h"
 #include "camera/dofp_sensor.h"
 #include "camera/lens_factory.h"
@@ -29,6 +30,9 @@ namespace skypol::scene {
 
 struct CameraSpec {
   camera::LensSpec lens;               // checked by camera::make_lens
+  // The calibration file the lens came from (calibration = ... or an OCamCalib path), text
+  // included, so that a stack's header rebuilds the lens without the file.
+  std::optional<camera::Calibration> calibration;
   // Orientation (camera/orientation.h). A quaternion in the scene is turned into these angles, so
   // the truth and the headers always carry heading, tilt and roll.
   double heading_deg = 0, tilt_deg = 0, roll_deg = 0;

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "camera/orientation.h"
@@ -19,12 +21,44 @@ const std::vector<std::string>& lens_keys() {
   static const std::vector<std::string> keys{
       "coefficients", "ocamcalib_path", "clamp_fov_to_monotone", "binning", "focal_mm", "pitch_um",
       "fov_deg",      "table",          "width",                 "height",  "fx",       "fy",
-      "cx",           "cy",             "model"};
+      "cx",           "cy",             "skew",                  "model"};
   return keys;
 }
 
-// A make_lens error names a field; report it at that key of the table (or at the table).
-[[noreturn]] void fail_lens(const Fields& c, const std::string& message) {
+// The keys a calibration file sets; giving one beside `calibration` is an error.
+const std::vector<std::string>& calibrated_keys() {
+  static const std::vector<std::string> keys{"lens_preset", "sensor_preset", "model", "width", "height",
+                                             "focal_mm",    "pitch_um",      "fx",    "fy",    "cx",
+                                             "cy",          "skew",          "coefficients", "table", "ocamcalib_path"};
+  return keys;
+}
+
+// A TOML basic string holding any text (the calibration file inline in a stack header).
+std::string toml_quoted(const std::string& text) {
+  std::string out = "\"";
+  for (unsigned char ch : text) {
+    switch (ch) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      case '\r': out += "\\r"; break;
+      default:
+        if (ch < 0x20 || ch == 0x7f) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04X", ch);
+          out += buf;
+        } else {
+          out += static_cast<char>(ch);
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// A make_lens error names a field; report it at that key of the table (or at `fallback`, or at
+// the table).
+[[noreturn]] void fail_lens(const Fields& c, const std::string& message, std::string_view fallback = "model") {
   std::string key;
   std::size_t best = std::string::npos;
   for (const std::string& k : lens_keys()) {
@@ -32,7 +66,7 @@ const std::vector<std::string>& lens_keys() {
     if (at < best) best = at, key = k;
   }
   if (key == "cx" && message.find("cy") != std::string::npos && message.find("cx") == std::string::npos) key = "cy";
-  c.fail(key.empty() || !c.has(key) ? std::string_view("model") : std::string_view(key), message);
+  c.fail(key.empty() || !c.has(key) ? fallback : std::string_view(key), message);
 }
 
 // Heading, tilt and roll of a world_from_camera rotation (inverse of
@@ -54,6 +88,19 @@ std::string canonical_description(const CameraSpec& s, const std::string& transp
   auto opt = [&os](const char* key, const std::optional<double>& v) {
     if (v) os << key << " = " << *v << "\n";
   };
+  if (s.calibration) {
+    // The calibration's own text, so that the stack needs no file; the path is only a label.
+    const camera::Calibration& cal = *s.calibration;
+    os << "calibration = " << toml_quoted(cal.name) << "\ncalibration_format = \"" << cal.format << "\"\n";
+    if (!cal.camera.empty()) os << "calibration_camera = " << toml_quoted(cal.camera) << "\n";
+    os << "calibration_text = " << toml_quoted(cal.text) << "\n";
+    opt("fov_deg", l.fov_deg);
+    if (l.clamp_fov_to_monotone) os << "clamp_fov_to_monotone = true\n";
+    if (l.binning != 1) os << "binning = " << l.binning << "\n";
+    os << "heading_deg = " << s.heading_deg << "\ntilt_deg = " << s.tilt_deg << "\nroll_deg = " << s.roll_deg
+       << "\ntransport = \"" << transport << "\"\n";
+    return os.str();
+  }
   os << "model = \"" << l.model << "\"\n";
   if (l.width) os << "width = " << l.width << "\nheight = " << l.height << "\n";
   opt("fx", l.fx);
@@ -63,6 +110,7 @@ std::string canonical_description(const CameraSpec& s, const std::string& transp
   opt("cx", l.cx);
   opt("cy", l.cy);
   opt("fov_deg", l.fov_deg);
+  opt("skew", l.skew);
   if (!l.coefficients.empty()) {
     os << "coefficients = [";
     for (std::size_t i = 0; i < l.coefficients.size(); ++i) os << (i ? ", " : "") << l.coefficients[i];
@@ -83,12 +131,51 @@ std::string canonical_description(const CameraSpec& s, const std::string& transp
   return os.str();
 }
 
-}  // namespace
+// `calibration` (a file) or `calibration_text` (its contents inline, as a stack header holds
+// them) with `calibration_format` and `calibration_camera`: the lens as the file describes it.
+camera::Calibration read_calibration(Fields& c) {
+  camera::Calibration cal;
+  const std::string at = c.has("calibration_text") ? "calibration_text" : "calibration";
+  if (!c.has("calibration_format")) {
+    std::string legal;
+    for (auto f : camera::calibration_formats()) legal += (legal.empty() ? "" : ", ") + std::string(f);
+    c.fail(at, "needs calibration_format (one of " + legal + ")");
+  }
+  std::vector<std::string> formats;
+  for (std::string_view f : camera::calibration_formats()) formats.emplace_back(f);
+  cal.format = c.choice("calibration_format", "", formats);
+  if (const toml::node* n = c.node("calibration_camera")) {
+    if (const auto i = n->value_exact<int64_t>()) {
+      cal.camera = std::to_string(*i);
+    } else if (const auto str = n->value_exact<std::string>()) {
+      cal.camera = *str;
+    } else {
+      c.fail("calibration_camera", "expected a camera id: an integer (COLMAP, basalt) or a string (Kalibr's \"cam0\")");
+    }
+  }
+  const std::optional<std::string> path = c.optional_string("calibration");
+  if (path) {
+    std::filesystem::path p(*path);
+    if (p.is_relative()) p = std::filesystem::path(c.loc("calibration").file).parent_path() / p;
+    cal.name = std::filesystem::absolute(p).lexically_normal().string();
+  }
+  if (std::optional<std::string> text = c.optional_string("calibration_text")) {
+    cal.text = *text;
+    if (!path) cal.name = "calibration_text";
+  } else {
+    std::ifstream in(cal.name, std::ios::binary);
+    if (!std::filesystem::is_regular_file(cal.name) || !in) c.fail("calibration", "no such file: " + cal.name);
+    std::ostringstream contents;
+    contents << in.rdbuf();
+    cal.text = contents.str();
+  }
+  for (const std::string& k : calibrated_keys())
+    if (c.has(k)) c.fail(k, "not with a calibration: " + cal.name + " sets the lens (fov_deg, clamp_fov_to_monotone and binning may be given)");
+  return cal;
+}
 
-CameraSpec read_camera(Fields& c) {
-  CameraSpec s;
-  camera::LensSpec& l = s.lens;
-
+camera::LensSpec read_lens(Fields& c) {
+  camera::LensSpec l;
   // Presets give defaults; every explicit key overrides them.
   if (std::optional<std::string> lens_name = c.optional_string("lens_preset")) {
     const std::string sensor_name = c.string("sensor_preset", "sony_imx250mzr");
@@ -127,6 +214,7 @@ CameraSpec read_camera(Fields& c) {
     if (!c.has("pitch_um") && l.model != "tabulated") l.pitch_um.reset();
   }
   if (std::optional<double> v = c.optional_number("fy", 1e-3, 1e7)) l.fy = v;
+  if (std::optional<double> v = c.optional_number("skew", -1e7, 1e7)) l.skew = v;
   if (l.width) {
     if (std::optional<double> v = c.optional_number("cx", -0.5, l.width - 0.5)) l.cx = v;
     if (std::optional<double> v = c.optional_number("cy", -0.5, l.height - 0.5)) l.cy = v;
@@ -156,8 +244,11 @@ CameraSpec read_camera(Fields& c) {
   }
   l.clamp_fov_to_monotone = c.boolean("clamp_fov_to_monotone", false);
   l.binning = static_cast<int>(c.integer("binning", 1, 1, 64));
+  return l;
+}
 
-  // Orientation.
+// Orientation: heading/tilt/roll or a quaternion.
+void read_orientation(Fields& c, CameraSpec& s) {
   const bool has_angles = c.has("heading_deg") || c.has("tilt_deg") || c.has("roll_deg");
   if (c.has("quaternion")) {
     if (has_angles) c.fail("quaternion", "give either 'quaternion' or heading_deg/tilt_deg/roll_deg, not both");
@@ -173,6 +264,41 @@ CameraSpec read_camera(Fields& c) {
     s.tilt_deg = c.number("tilt_deg", 0, 0, 180);
     s.roll_deg = c.number("roll_deg", 0, -360, 360);
   }
+}
+
+}  // namespace
+
+CameraSpec read_camera(Fields& c) {
+  CameraSpec s;
+  camera::LensSpec& l = s.lens;
+  const bool calibrated = c.has("calibration") || c.has("calibration_text");
+  const std::string_view lens_at = c.has("calibration_text") ? "calibration_text" : "calibration";
+
+  if (calibrated) {
+    s.calibration = read_calibration(c);
+    try {
+      l = camera::lens_spec_from_calibration(*s.calibration);
+    } catch (const std::invalid_argument& e) {
+      c.fail(lens_at, e.what());
+    }
+    if (std::optional<double> v = c.optional_number("fov_deg", 1, 360)) l.fov_deg = v;
+    if (c.has("clamp_fov_to_monotone")) l.clamp_fov_to_monotone = c.boolean("clamp_fov_to_monotone", false);
+    l.binning = static_cast<int>(c.integer("binning", 1, 1, 64));
+  } else {
+    s.lens = read_lens(c);
+    if (l.model == "ocam") {
+      // Keep the file's text with the camera: a stack stays estimable when the file moves.
+      camera::Calibration cal;
+      cal.format = "ocamcalib";
+      cal.name = l.ocamcalib_path;
+      std::ifstream in(cal.name, std::ios::binary);
+      std::ostringstream text;
+      text << in.rdbuf();
+      cal.text = l.ocamcalib_text = text.str();
+      s.calibration = cal;
+    }
+  }
+  read_orientation(c, s);
   const std::string transport = c.choice("transport", "meridional", {"meridional", "projected"});
   s.transport = transport == "projected" ? camera::Transport::projected : camera::Transport::meridional;
   c.finish();
@@ -180,7 +306,7 @@ CameraSpec read_camera(Fields& c) {
   try {
     (void)camera::make_lens(l);
   } catch (const std::invalid_argument& e) {
-    fail_lens(c, e.what());
+    fail_lens(c, e.what(), calibrated ? lens_at : std::string_view("model"));
   }
   // The canonical description: every value explicit, so a stack rebuilds the exact camera.
   s.description = canonical_description(s, transport);
