@@ -56,6 +56,19 @@ std::string toml_quoted(const std::string& text) {
   return out + "\"";
 }
 
+// Whether `text` is UTF-8 (TOML's strings must be, and the description carries the text).
+bool is_utf8(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto b = static_cast<unsigned char>(text[i]);
+    const int n = b < 0x80 ? 0 : (b >> 5) == 0x6 ? 1 : (b >> 4) == 0xE ? 2 : (b >> 3) == 0x1E ? 3 : -1;
+    if (n < 0 || i + n >= text.size()) return false;
+    for (int k = 1; k <= n; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return false;
+    i += n + 1;
+  }
+  return true;
+}
+
 // A make_lens error names a field; report it at that key of the table (or at `fallback`, or at
 // the table).
 [[noreturn]] void fail_lens(const Fields& c, const std::string& message, std::string_view fallback = "model") {
@@ -169,6 +182,7 @@ camera::Calibration read_calibration(Fields& c) {
     contents << in.rdbuf();
     cal.text = contents.str();
   }
+  if (!is_utf8(cal.text)) c.fail(c.has("calibration_text") ? "calibration_text" : "calibration", cal.name + ": not UTF-8 text");
   for (const std::string& k : calibrated_keys())
     if (c.has(k)) c.fail(k, "not with a calibration: " + cal.name + " sets the lens (fov_deg, clamp_fov_to_monotone and binning may be given)");
   return cal;
@@ -295,6 +309,7 @@ CameraSpec read_camera(Fields& c) {
       std::ostringstream text;
       text << in.rdbuf();
       cal.text = l.ocamcalib_text = text.str();
+      if (!is_utf8(cal.text)) c.fail("ocamcalib_path", cal.name + ": not UTF-8 text");
       s.calibration = cal;
     }
   }

@@ -10,6 +10,7 @@
 
 #include "camera/calibration_import.h"
 #include "camera/eucm.h"
+#include "camera/intrinsics.h"
 #include "camera/lens_factory.h"
 #include "camera/mei_lens.h"
 #include "camera/thin_prism_fisheye.h"
@@ -432,4 +433,22 @@ TEST_CASE("EUCM with beta = 1 is Mei's model with xi = alpha/(1 - alpha), f/(1 -
   // Mei's limit for ξ = 1.5 is acos(−1/1.5) = 131.8°.
   CHECK(MeiLens::valid_angle(1.5) / kDeg == Approx(131.8103149));
   CHECK_THROWS_WITH(MeiLens(km, 0, 1.5, {0, 0, 0, 0}, 132 * kDeg), Catch::Contains("exceeds the unified (Mei) model's limit of 131.8°"));
+}
+
+TEST_CASE("the new models bin exactly: a binned copy sees every direction at (p + 1/2)/2 - 1/2", "[calibration]") {
+  const std::vector<std::shared_ptr<const Lens>> lenses = {
+      import("colmap", kColmapCameras, "4"), import("opencv", kOpenCvOmniYaml), import("kalibr", kCamchain, "cam1")};
+  for (const auto& lens : lenses) {
+    INFO(lens->name());
+    const auto b = binned(*lens, 2);
+    for (double t : {0.0, 0.4, 1.2, 1.6})
+      for (double phi : {0.3, 2.0, 4.0}) {
+        const auto p = lens->project(dir(t, phi));
+        const auto q = b->project(dir(t, phi));
+        REQUIRE(p);
+        REQUIRE(q);
+        CHECK((*q - ((*p).array() + 0.5).matrix() / 2 + Eigen::Vector2d(0.5, 0.5)).norm() < 1e-9);
+      }
+    CHECK(worst_round_trip(*b) < 1e-6);
+  }
 }

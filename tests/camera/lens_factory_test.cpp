@@ -141,7 +141,7 @@ TEST_CASE("COLMAP PINHOLE line and its errors", "[factory]") {
   // Farthest corner (−0.5 − 319.5, −0.5 − 239.5) = 400 px → θ = atan(0.8), FOV 77.32°.
   CHECK(*s.fov_deg == Approx(2 * std::atan(0.8) / kDeg));
   CHECK(make_lens(s)->name() == "perspective");
-  CHECK_THROWS_WITH(lens_spec_from_colmap("1 RADIAL_FISHEYE 640 480 1 2 3 4 5"),
+  CHECK_THROWS_WITH(lens_spec_from_colmap("1 FOV 640 480 300 320 240 0.9"),
                     Catch::Contains("not supported") && Catch::Contains("OPENCV_FISHEYE"));
   CHECK_THROWS_WITH(lens_spec_from_colmap("1 PINHOLE 640 480 500 500 320"),
                     Catch::Contains("needs 4 parameters (fx, fy, cx, cy), got 3"));

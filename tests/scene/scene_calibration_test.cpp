@@ -130,6 +130,12 @@ TEST_CASE("calibration errors are located at the key, with the calibration file'
              Catch::Contains("camera.fx") && Catch::Contains("not with a calibration"));
   CHECK_THAT(cam("calibration = \"c.txt\"\ncalibration_format = \"colmap\"\ncalibration_camera = 1.5\n"),
              Catch::Contains("camera.calibration_camera") && Catch::Contains("expected a camera id"));
+  // The text travels in a TOML string, so it must be UTF-8 (a Latin-1 "°" in a comment is not).
+  f.write("c.txt", "# 185\xb0 lens\n1 RADIAL_FISHEYE 640 480 300 320 240 0.1 0.01\n");
+  CHECK_THAT(cam("calibration = \"c.txt\"\ncalibration_format = \"colmap\"\n"),
+             Catch::Contains("camera.calibration") && Catch::Contains("not UTF-8 text"));
+  f.write("c.txt", "# 185\xc2\xb0 lens\n1 RADIAL_FISHEYE 640 480 300 320 240 0.1 0.01\n");
+  CHECK_NOTHROW(parse_scene(kHead + "[camera]\ncalibration = \"c.txt\"\ncalibration_format = \"colmap\"\n", scene_file));
   // fov_deg overrides the fitted field of view and is checked by the lens.
   const auto s = parse_scene(kHead + "[camera]\ncalibration = \"c.txt\"\ncalibration_format = \"colmap\"\nfov_deg = 150\n", scene_file);
   CHECK(*s.camera.lens.fov_deg == 150);
