@@ -130,6 +130,13 @@ TEST_CASE("calibration errors are located at the key, with the calibration file'
              Catch::Contains("camera.fx") && Catch::Contains("not with a calibration"));
   CHECK_THAT(cam("calibration = \"c.txt\"\ncalibration_format = \"colmap\"\ncalibration_camera = 1.5\n"),
              Catch::Contains("camera.calibration_camera") && Catch::Contains("expected a camera id"));
+  // OCamCalib and Kalibr files: their own line numbers too.
+  f.write("o.txt", "#pol\n5 -260.87 0 1.2778e-03 0 1.2556e-09\n#inv\n2 417.4 291.4\n#centre\n511.3 6l2.8\n#affine\n1 0 0\n#size\n1024 1224\n");
+  CHECK_THAT(cam("calibration = \"o.txt\"\ncalibration_format = \"ocamcalib\"\n"),
+             Catch::Contains("camera.calibration") && Catch::Contains("o.txt:6: centre \"xc yc\" (row, column): expected 2 numbers"));
+  f.write("k.yaml", "cam0:\n  camera_model: ds\n  intrinsics: [0.1, 0.5, 300, 300, 320]\n  resolution: [640, 480]\n");
+  CHECK_THAT(cam("calibration = \"k.yaml\"\ncalibration_format = \"kalibr\"\n"),
+             Catch::Contains("k.yaml:3: cam0.intrinsics: camera_model ds needs 6"));
   // The text travels in a TOML string, so it must be UTF-8 (a Latin-1 "°" in a comment is not).
   f.write("c.txt", "# 185\xb0 lens\n1 RADIAL_FISHEYE 640 480 300 320 240 0.1 0.01\n");
   CHECK_THAT(cam("calibration = \"c.txt\"\ncalibration_format = \"colmap\"\n"),
