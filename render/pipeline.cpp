@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <optional>
 #include <utility>
 
@@ -9,6 +11,7 @@
 #include "stack/preview.h"
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
+#include "scene/scene_error.h"
 #include "stack/stack_io.h"
 #include "scene/truth.h"
 
@@ -21,6 +24,59 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // variant): its pixel memory is already allocated and touched, so a next stack of the same size
 // pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
 thread_local stack::Frame t_spare_frame;
+
+// A render in which no pixel sees the sky is a mistake in the scene (focal_mm in metres, a camera
+// facing the ground), refused before anything is written, naming the likely key. "Sees the sky":
+// the pixel's centre has a ray (inside the image circle) pointing above the horizon. The pixel
+// nearest the principal point answers for every sane camera; only a blind one pays for the scan.
+void refuse_blind_camera(const scene::Scene& scene, const camera::Camera& cam) {
+  const int w = cam.width(), h = cam.height();
+  const auto sees = [&](int x, int y) {
+    const auto r = cam.ray(Eigen::Vector2d(x, y));
+    return r && r->d.z() > 0;
+  };
+  const camera::Intrinsics& k = cam.lens().intrinsics();
+  const int x0 = std::clamp(static_cast<int>(std::lround(k.cx)), 0, w - 1);
+  const int y0 = std::clamp(static_cast<int>(std::lround(k.cy)), 0, h - 1);
+  if (sees(x0, y0)) return;
+  bool any_ray = false;
+  for (int step : {8, 1}) {
+    for (int y = 0; y < h; y += step) {
+      for (int x = 0; x < w; x += step) {
+        const auto r = cam.ray(Eigen::Vector2d(x, y));
+        if (!r) continue;
+        if (r->d.z() > 0) return;
+        any_ray = true;
+      }
+    }
+  }
+  const camera::LensSpec& l = scene.camera.lens;
+  std::string why;
+  if (any_ray) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "every pixel looks below the horizon: check camera.tilt_deg (%g; 0 looks at the zenith, "
+                  "90 at the horizon)", scene.camera.tilt_deg);
+    why = buf;
+  } else {
+    // No pixel centre inside the image circle: the scale is the usual culprit.
+    const double radius_px = k.fx * cam.lens().max_field_angle();
+    char buf[256];
+    if (l.focal_mm) {
+      std::snprintf(buf, sizeof buf, "no pixel centre lies inside the image circle (radius about %.3g px): check "
+                    "camera.focal_mm = %g (millimetres, not metres) and camera.pitch_um = %g (micrometres)",
+                    radius_px, *l.focal_mm, l.pitch_um.value_or(0));
+    } else if (l.fx) {
+      std::snprintf(buf, sizeof buf, "no pixel centre lies inside the image circle (radius about %.3g px): check "
+                    "camera.fx = %g (pixels) and camera.cx, camera.cy", radius_px, *l.fx);
+    } else {
+      std::snprintf(buf, sizeof buf, "no pixel centre lies inside the image circle (radius about %.3g px): check the "
+                    "camera's scale and principal point (camera.cx, camera.cy)", radius_px);
+    }
+    why = buf;
+  }
+  throw scene::SceneError(scene::FileLoc{scene.file, 0, 0},
+                          "no pixel of the " + std::to_string(w) + "x" + std::to_string(h) + " image sees the sky; " + why);
+}
 }  // namespace
 
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
@@ -32,6 +88,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
 
   const auto t_setup = Clock::now();
   std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  refuse_blind_camera(scene, *cam);
   // One model for every band (grey skies), or one per band (vrte: tables from the cache).
   const sky::BandSkies skies = scene::build_band_skies(scene, table_cache_dir ? *table_cache_dir : sky::default_table_cache_dir());
   std::vector<const sky::SkyModel*> band_skies;
