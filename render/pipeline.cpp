@@ -25,57 +25,55 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
 thread_local stack::Frame t_spare_frame;
 
-// A render in which no pixel sees the sky is a mistake in the scene (focal_mm in metres, a camera
-// facing the ground), refused before anything is written, naming the likely key. "Sees the sky":
-// the pixel's centre has a ray (inside the image circle) pointing above the horizon. The pixel
-// nearest the principal point answers for every sane camera; only a blind one pays for the scan.
+// A render in which no pixel sees the sky, or next to none (fewer than 1 in 10 000), is a
+// mistake in the scene (focal_mm in metres gives an image circle of a pixel or two; a camera facing
+// the ground sees none), refused before anything is written, naming the likely key. A pixel sees
+// the sky when its centre has a ray (inside the image circle) above the horizon. A grid of every
+// 8th pixel answers for every sane camera; only a suspicious one pays for counting every pixel.
 void refuse_blind_camera(const scene::Scene& scene, const camera::Camera& cam) {
   const int w = cam.width(), h = cam.height();
-  const auto sees = [&](int x, int y) {
-    const auto r = cam.ray(Eigen::Vector2d(x, y));
-    return r && r->d.z() > 0;
-  };
-  const camera::Intrinsics& k = cam.lens().intrinsics();
-  const int x0 = std::clamp(static_cast<int>(std::lround(k.cx)), 0, w - 1);
-  const int y0 = std::clamp(static_cast<int>(std::lround(k.cy)), 0, h - 1);
-  if (sees(x0, y0)) return;
-  bool any_ray = false;
-  for (int step : {8, 1}) {
-    for (int y = 0; y < h; y += step) {
-      for (int x = 0; x < w; x += step) {
+  const double needed = std::max(1.0, 1e-4 * w * h);
+  const auto count = [&](int step, bool* any_ray) {
+    double n = 0;
+    for (int y = step / 2; y < h; y += step) {
+      for (int x = step / 2; x < w; x += step) {
         const auto r = cam.ray(Eigen::Vector2d(x, y));
-        if (!r) continue;
-        if (r->d.z() > 0) return;
-        any_ray = true;
+        if (r && any_ray) *any_ray = true;
+        if (r && r->d.z() > 0) n += 1;
       }
     }
-  }
+    return n;
+  };
+  if (w >= 64 && h >= 64 && count(8, nullptr) * 64 >= 4 * needed) return;
+  bool any_ray = false;
+  const double seen = count(1, &any_ray);
+  if (seen >= needed) return;
   const camera::LensSpec& l = scene.camera.lens;
-  std::string why;
-  if (any_ray) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "every pixel looks below the horizon: check camera.tilt_deg (%g; 0 looks at the zenith, "
-                  "90 at the horizon)", scene.camera.tilt_deg);
-    why = buf;
+  const camera::Intrinsics& k = cam.lens().intrinsics();
+  char buf[320];
+  if (any_ray && seen == 0) {
+    std::snprintf(buf, sizeof buf, "every pixel looks below the horizon: check camera.tilt_deg (%g; 0 looks at the "
+                  "zenith, 90 at the horizon)", scene.camera.tilt_deg);
   } else {
-    // No pixel centre inside the image circle: the scale is the usual culprit.
+    // A pixel or two inside the image circle: the scale is the usual culprit.
     const double radius_px = k.fx * cam.lens().max_field_angle();
-    char buf[256];
+    const int n = std::snprintf(buf, sizeof buf, "the image circle has a radius of about %.3g px: ", radius_px);
+    char* rest = buf + n;
+    const std::size_t room = sizeof buf - static_cast<std::size_t>(n);
     if (l.focal_mm) {
-      std::snprintf(buf, sizeof buf, "no pixel centre lies inside the image circle (radius about %.3g px): check "
-                    "camera.focal_mm = %g (millimetres, not metres) and camera.pitch_um = %g (micrometres)",
-                    radius_px, *l.focal_mm, l.pitch_um.value_or(0));
+      std::snprintf(rest, room, "check camera.focal_mm = %g (millimetres, not metres) and camera.pitch_um = %g "
+                    "(micrometres)", *l.focal_mm, l.pitch_um.value_or(0));
     } else if (l.fx) {
-      std::snprintf(buf, sizeof buf, "no pixel centre lies inside the image circle (radius about %.3g px): check "
-                    "camera.fx = %g (pixels) and camera.cx, camera.cy", radius_px, *l.fx);
+      std::snprintf(rest, room, "check camera.fx = %g (pixels) and camera.cx, camera.cy", *l.fx);
     } else {
-      std::snprintf(buf, sizeof buf, "no pixel centre lies inside the image circle (radius about %.3g px): check the "
-                    "camera's scale and principal point (camera.cx, camera.cy)", radius_px);
+      std::snprintf(rest, room, "check the camera's scale and principal point (camera.cx, camera.cy)");
     }
-    why = buf;
   }
   throw scene::SceneError(scene::FileLoc{scene.file, 0, 0},
-                          "no pixel of the " + std::to_string(w) + "x" + std::to_string(h) + " image sees the sky; " + why);
+                          (seen == 0 ? std::string("no pixel of the ")
+                                     : "only " + std::to_string(static_cast<long>(seen)) + " pixel(s) of the ") +
+                              std::to_string(w) + "x" + std::to_string(h) + " image " + (seen == 0 ? "sees" : "see") +
+                              " the sky; " + buf);
 }
 }  // namespace
 

@@ -47,6 +47,16 @@ TEST_CASE("a camera whose pixels see no sky is refused, naming the likely key", 
     CHECK_THAT(r.out, Catch::Contains("no pixel of the 120x100 image sees the sky"));
     CHECK_THAT(r.out, Catch::Contains("camera.focal_mm = 0.0018") && Catch::Contains("not metres"));
   }
+  SECTION("focal_mm in metres on a full-size sensor: four pixels of five million") {
+    const std::string preset = dir.write("preset.toml", std::string(kScene).substr(0, std::string(kScene).find("[camera]")) +
+                                                            "[camera]\nlens_preset = \"fujinon_fe185c057ha1\"\n"
+                                                            "sensor_preset = \"sony_imx250mzr\"\nfocal_mm = 0.0018\n");
+    const Result r = run("render -q " + preset + " -o " + out);
+    INFO(r.out);
+    CHECK(r.code == 2);
+    CHECK_THAT(r.out, Catch::Contains("only 4 pixel(s) of the 2448x2048 image see the sky"));
+    CHECK_THAT(r.out, Catch::Contains("camera.focal_mm = 0.0018"));
+  }
   SECTION("a camera facing the ground") {
     const Result r = run("render -q " + scene + " --set camera.tilt_deg=180 --set camera.fov_deg=120 -o " + out);
     INFO(r.out);
