@@ -13,6 +13,7 @@ void add_estimate(CLI::App& app) {
   struct Args {
     skypole::EstimateRequest request;
     std::string hemisphere = "automatic";
+    bool quiet = false;
   };
   auto a = std::make_shared<Args>();
   std::string names;
@@ -31,8 +32,13 @@ void add_estimate(CLI::App& app) {
                   "Largest 95 % cone (degrees) an answer may have; a method whose stated uncertainty is "
                   "wider declines and says so (default: no bound)");
   est->add_flag("--json", a->request.json, "Print the result as JSON");
+  est->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   est->callback([a] {
     a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
+    // Methods done, their rate and the time left, redrawn while one runs (terminal only).
+    Ticker ticker(make_progress(a->quiet, "methods"));
+    a->request.progress = [&ticker](std::size_t done, std::size_t total) { ticker(done, total); };
+    a->request.before_output = [&ticker] { ticker.hide(); };
     skypole::print_estimate(a->request);
   });
 }

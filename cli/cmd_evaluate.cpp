@@ -28,16 +28,24 @@ std::vector<std::string> find_stacks(const std::vector<std::string>& inputs) {
       for (const auto& entry : fs::recursive_directory_iterator(in)) {
         if (!entry.is_regular_file() || entry.path().extension() != ".exr") continue;
         try {
-          (void)stack::peek_stack(entry.path().string());
+          if (!stack::peek_stack(entry.path().string()).truth_known) {
+            std::fprintf(stderr, "skipped: %s: an imported capture, its truth unknown: nothing to score "
+                                 "(skypol estimate gives its estimates)\n", entry.path().string().c_str());
+            continue;
+          }
           found.push_back(entry.path().string());
         } catch (const scene::SceneError& e) {
           std::fprintf(stderr, "skipped: %s\n", e.what());
         }
       }
       std::sort(found.begin(), found.end());
-      if (found.empty()) throw std::invalid_argument(in + ": no .exr stacks in this folder");
+      if (found.empty()) throw std::invalid_argument(in + ": no .exr stacks with a truth to score in this folder");
       stacks.insert(stacks.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(in)) {
+      if (!stack::peek_stack(in).truth_known) {
+        throw std::invalid_argument(in + ": an imported capture, its truth unknown: evaluate has nothing to score "
+                                         "against (skypol estimate gives its estimates)");
+      }
       stacks.push_back(in);
     } else {
       throw std::invalid_argument(in + ": no such file or folder");

@@ -1,4 +1,5 @@
-// `skypol info STACK.exr`: the frames of a stack and their truth, for a person to read.
+// `skypol info STACK.exr`: the frames of a stack and their truth, for a person to read, or with
+// --json every header attribute of every part at full precision, for a program.
 #include <cstdio>
 
 #include "cli/commands.h"
@@ -8,9 +9,13 @@ namespace skypol::cli {
 
 void add_info(CLI::App& app) {
   auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
   CLI::App* info = app.add_subcommand("info", "Print a stack's frames and the truth in their headers");
-  info->add_option("stack", *path, "A stack written by skypol render")->required();
-  info->callback([path] { std::fputs(stack::describe_stack(*path).c_str(), stdout); });
+  info->add_option("stack", *path, "A stack written by skypol render or skypol import")->required();
+  info->add_flag("--json", *json, "Every header attribute of every part as JSON (numbers at %.17g)");
+  info->callback([path, json] {
+    std::fputs((*json ? stack::describe_stack_json(*path) : stack::describe_stack(*path)).c_str(), stdout);
+  });
 }
 
 }  // namespace skypol::cli

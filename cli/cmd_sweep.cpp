@@ -36,9 +36,24 @@ void add_sweep(CLI::App& app) {
     for (const std::string& s : a->set) o.overrides.push_back(scene::parse_override(s));
     o.threads = a->threads;
     o.dry_run = a->dry_run;
-    if (!a->quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     const scene::Sweep sweep = scene::load_sweep(a->sweep);
+    // On a terminal, a progress line under the variants' lines: variants of this shard done, their
+    // rate and the time left (those already complete count as done when the run ends).
+    std::size_t in_shard = 0, logged = 0;
+    for (std::size_t i = 0; i < sweep.size(); ++i) in_shard += o.shard.has(i) ? 1 : 0;
+    auto ticker = std::make_shared<Ticker>(make_progress(a->quiet || a->dry_run, "variants"));
+    if (!a->quiet) {
+      o.log = [ticker, &logged, in_shard](const std::string& line) {
+        ticker->hide();
+        std::fprintf(stderr, "%s\n", line.c_str());
+        ++logged;
+        if (logged < in_shard) (*ticker)(logged, in_shard);
+      };
+      (*ticker)(0, in_shard);
+    }
     const render::SweepReport r = render::run_sweep(sweep, o);
+    ticker->hide();
+    ticker.reset();
     if (!a->quiet && o.dry_run) {
       std::fprintf(stderr, "sweep %s (dry run): %zu variant(s) checked in %.2f s, manifest written; shard %zu/%zu has %zu: "
                    "%zu complete, %zu to render\n", a->sweep.c_str(), r.variants, r.check_seconds, o.shard.index,

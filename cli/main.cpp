@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
   CLI::App app{"skypol: a physically based renderer of skylight polarization and a benchmark for "
                "the estimators that find north in it"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", skypol::cli::version_text());
   skypol::cli::add_render(app);
   skypol::cli::add_estimate(app);
   skypol::cli::add_evaluate(app);
@@ -22,6 +23,8 @@ int main(int argc, char** argv) {
   skypol::cli::add_reproduce(app);
   skypol::cli::add_tradeoff(app);
   skypol::cli::add_table(app);
+  skypol::cli::add_import(app);
+  skypol::cli::add_export(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <optional>
 #include <utility>
 
@@ -9,6 +11,7 @@
 #include "stack/preview.h"
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
+#include "scene/scene_error.h"
 #include "stack/stack_io.h"
 #include "scene/truth.h"
 
@@ -21,6 +24,57 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // variant): its pixel memory is already allocated and touched, so a next stack of the same size
 // pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
 thread_local stack::Frame t_spare_frame;
+
+// A render in which no pixel sees the sky, or next to none (fewer than 1 in 10 000), is a
+// mistake in the scene (focal_mm in metres gives an image circle of a pixel or two; a camera facing
+// the ground sees none), refused before anything is written, naming the likely key. A pixel sees
+// the sky when its centre has a ray (inside the image circle) above the horizon. A grid of every
+// 8th pixel answers for every sane camera; only a suspicious one pays for counting every pixel.
+void refuse_blind_camera(const scene::Scene& scene, const camera::Camera& cam) {
+  const int w = cam.width(), h = cam.height();
+  const double needed = std::max(1.0, 1e-4 * w * h);
+  const auto count = [&](int step, bool* any_ray) {
+    double n = 0;
+    for (int y = step / 2; y < h; y += step) {
+      for (int x = step / 2; x < w; x += step) {
+        const auto r = cam.ray(Eigen::Vector2d(x, y));
+        if (r && any_ray) *any_ray = true;
+        if (r && r->d.z() > 0) n += 1;
+      }
+    }
+    return n;
+  };
+  if (w >= 64 && h >= 64 && count(8, nullptr) * 64 >= 4 * needed) return;
+  bool any_ray = false;
+  const double seen = count(1, &any_ray);
+  if (seen >= needed) return;
+  const camera::LensSpec& l = scene.camera.lens;
+  const camera::Intrinsics& k = cam.lens().intrinsics();
+  char buf[320];
+  if (any_ray && seen == 0) {
+    std::snprintf(buf, sizeof buf, "every pixel looks below the horizon: check camera.tilt_deg (%g; 0 looks at the "
+                  "zenith, 90 at the horizon)", scene.camera.tilt_deg);
+  } else {
+    // A pixel or two inside the image circle: the scale is the usual culprit.
+    const double radius_px = k.fx * cam.lens().max_field_angle();
+    const int n = std::snprintf(buf, sizeof buf, "the image circle has a radius of about %.3g px: ", radius_px);
+    char* rest = buf + n;
+    const std::size_t room = sizeof buf - static_cast<std::size_t>(n);
+    if (l.focal_mm) {
+      std::snprintf(rest, room, "check camera.focal_mm = %g (millimetres, not metres) and camera.pitch_um = %g "
+                    "(micrometres)", *l.focal_mm, l.pitch_um.value_or(0));
+    } else if (l.fx) {
+      std::snprintf(rest, room, "check camera.fx = %g (pixels) and camera.cx, camera.cy", *l.fx);
+    } else {
+      std::snprintf(rest, room, "check the camera's scale and principal point (camera.cx, camera.cy)");
+    }
+  }
+  throw scene::SceneError(scene::FileLoc{scene.file, 0, 0},
+                          (seen == 0 ? std::string("no pixel of the ")
+                                     : "only " + std::to_string(static_cast<long>(seen)) + " pixel(s) of the ") +
+                              std::to_string(w) + "x" + std::to_string(h) + " image " + (seen == 0 ? "sees" : "see") +
+                              " the sky; " + buf);
+}
 }  // namespace
 
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
@@ -32,6 +86,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
 
   const auto t_setup = Clock::now();
   std::shared_ptr<const camera::Camera> cam = scene::build_camera(scene.camera);
+  refuse_blind_camera(scene, *cam);
   // One model for every band (grey skies), or one per band (vrte: tables from the cache).
   const sky::BandSkies skies = scene::build_band_skies(scene, table_cache_dir ? *table_cache_dir : sky::default_table_cache_dir());
   std::vector<const sky::SkyModel*> band_skies;

@@ -69,6 +69,11 @@ PoleEstimate run_bare(const stack::Stack& stack, std::string_view method, const 
     return estimate_invariance(stack, p).estimate;
   }
   if (method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp") {
+    if (method == "sun_vector_ephemeris" && !stack.site_known) {
+      // An imported capture without [site]: the ephemeris has nothing to be computed for.
+      throw std::invalid_argument("sun_vector_ephemeris needs the site, and this capture's is unknown "
+                                  "(give [site] when importing)");
+    }
     SunVectorParams p;
     p.input = input;
     p.mode = method == "sun_vector_ephemeris" ? PoleFromSun::ephemeris : PoleFromSun::circle;

@@ -92,15 +92,20 @@ void print_json(const std::string& path, const stack::Stack& stack, const PoleEs
                 const std::optional<Score>& s) {
   const scene::Truth& t = stack.frames.at(0).truth;
   const auto v = [&](double x) { return e.valid ? std::optional<double>(x) : std::nullopt; };
+  // An imported capture has no truth to print (its latitude is known only with its site).
+  const std::optional<double> true_latitude =
+      stack.site_known ? std::optional<double>(t.site.latitude_deg) : std::nullopt;
+  const std::optional<double> true_heading = stack.truth_known ? std::optional<double>(t.heading_deg) : std::nullopt;
   std::printf("{\"stack\": %s, \"method\": \"%s\", \"valid\": %s, \"why_invalid\": %s, \"frames\": %zu, "
               "\"seconds\": %.4f,\n",
               json_quoted(path).c_str(), e.method.c_str(), e.valid ? "true" : "false",
               e.valid ? "null" : json_quoted(e.why_invalid).c_str(), stack.frames.size(), e.seconds);
-  std::printf(" \"latitude_deg\": %s, \"true_latitude_deg\": %.6f, \"latitude_error_deg\": %s,\n",
-              number_or_null(v(e.latitude_deg), 6).c_str(), t.site.latitude_deg,
+  std::printf(" \"truth_known\": %s, \"latitude_deg\": %s, \"true_latitude_deg\": %s, \"latitude_error_deg\": %s,\n",
+              stack.truth_known ? "true" : "false", number_or_null(v(e.latitude_deg), 6).c_str(),
+              number_or_null(true_latitude, 6).c_str(),
               number_or_null(s ? std::optional<double>(s->latitude_error_deg) : std::nullopt, 6).c_str());
-  std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %.6f, \"bearing_error_deg\": %s,\n",
-              heading_or_null(e.valid ? e.heading_deg : std::nullopt, 6).c_str(), t.heading_deg,
+  std::printf(" \"heading_deg\": %s, \"true_heading_deg\": %s, \"bearing_error_deg\": %s,\n",
+              heading_or_null(e.valid ? e.heading_deg : std::nullopt, 6).c_str(), number_or_null(true_heading, 6).c_str(),
               number_or_null(s ? s->bearing_error_deg : std::nullopt, 6).c_str());
   std::printf(" \"sigma_bearing_deg\": %s, \"sigma_latitude_deg\": %s, \"cone95_deg\": %s,\n",
               number_or_null(v(e.sigma_bearing_deg), 6).c_str(), number_or_null(v(e.sigma_latitude_deg), 6).c_str(),
@@ -122,6 +127,17 @@ void print_table(const stack::Stack& stack, const PoleEstimate& e, const Score& 
               t.heading_deg, number_or_null(s.bearing_error_deg, 3, true).c_str(), e.sigma_bearing_deg);
   std::printf("%-24s %12s %12s %12.3f %12s\n", "pole on the sphere (deg)", e.is_north ? "north" : "south",
               t.pole_is_north ? "north" : "south", s.angular_error_deg, "");
+  std::printf("%-24s %12.3f\n", "95% cone (deg)", e.cone95_deg);
+}
+
+// An imported capture: the estimate alone (no truth, no error columns).
+void print_unscored(const PoleEstimate& e) {
+  std::printf("method   %s (%.3f s)%s%s\n", e.method.c_str(), e.seconds, e.note.empty() ? "" : "; ", e.note.c_str());
+  std::printf("%-24s %12s %12s\n", "", "estimate", "1-sigma");
+  std::printf("%-24s %12.3f %12.3f\n", "latitude (deg)", e.latitude_deg, e.sigma_latitude_deg);
+  std::printf("%-24s %12s %12.3f\n", "north bearing (deg)", heading_or_null(e.heading_deg, 3).c_str(),
+              e.sigma_bearing_deg);
+  std::printf("%-24s %12s\n", "pole on the sphere", e.is_north ? "north" : "south");
   std::printf("%-24s %12.3f\n", "95% cone (deg)", e.cone95_deg);
 }
 
@@ -158,13 +174,14 @@ void print_estimate(const EstimateRequest& r) {
   const stack::Stack stack = stack::read_stack(r.path, estimator_channels(r.path));
   if (stack.frames.empty()) throw std::invalid_argument(r.path + ": the stack has no frames");
   if (!r.json) {
-    std::printf("stack    %s (%zu frames, %dx%d)\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
-                stack.frames[0].height);
+    std::printf("stack    %s (%zu frames, %dx%d)%s\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
+                stack.frames[0].height, stack.truth_known ? "" : ", a capture: truth unknown, nothing to score");
   }
   if (r.json) std::printf("[");
   std::size_t declined = 0;
   std::vector<PoleEstimate> done;  // for auto, which combines the answers already computed
   for (std::size_t i = 0; i < methods.size(); ++i) {
+    if (r.progress) r.progress(i, methods.size());
     PoleEstimate e;
     if (!r.intermediates.empty()) {
       ClassicParams p;
@@ -190,15 +207,19 @@ void print_estimate(const EstimateRequest& r) {
       }
     }
     done.push_back(e);
+    if (r.progress && i + 1 == methods.size()) r.progress(methods.size(), methods.size());
+    if (r.before_output) r.before_output();
     std::optional<Score> s;
     if (e.valid) {
-      s = score(e, stack.frames[0].truth);
+      if (stack.truth_known) s = score(e, stack.frames[0].truth);
     } else {
       ++declined;
     }
     if (r.json) {
       if (i) std::printf(",\n");
       print_json(r.path, stack, e, s);
+    } else if (e.valid && !s) {
+      print_unscored(e);
     } else if (e.valid) {
       print_table(stack, e, *s);
     } else {

@@ -1,6 +1,7 @@
 // Estimate north on a stack and print the estimate beside the truth in its headers.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,10 @@ struct EstimateRequest {
   InputOptions input;
   bool json = false;
   std::string intermediates;  // classic only: write its step images to this EXR (empty: none)
+  // Feedback for a terminal (may be empty): progress(i, n) before method i runs and (n, n) after
+  // the last; before_output() before each method's result is printed.
+  std::function<void(std::size_t, std::size_t)> progress;
+  std::function<void()> before_output;
 };
 
 // Prints a table (or JSON: always an array, one object per method with the same keys, declined or

@@ -45,6 +45,12 @@ struct Stack {
   std::vector<Frame> frames;          // in time order
   std::string camera_description;     // the camera's scene text, enough to rebuild `camera`
   std::string scene_text;             // provenance: the whole scene as loaded
+  // false for an imported capture (skypol import): its times, camera and attitude are the user's,
+  // but its heading and pole are what the estimators are asked for, so there is nothing to score
+  // against (frames' truth then holds heading 0 and no pole pixel; docs/exr-format.md).
+  bool truth_known = true;
+  // false when the capture's site was not given: frames' site and sun are then zeros, unusable.
+  bool site_known = true;
 };
 
 }  // namespace skypol::stack

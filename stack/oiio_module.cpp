@@ -85,6 +85,12 @@ std::string write_float_image(const std::string& format_path, const std::string&
   return api().write_float_image(format_path, open_path, width, height, channels, pixels, attributes);
 }
 
+std::string write_u16_image(const std::string& format_path, const std::string& open_path, int width, int height,
+                            const std::vector<std::string>& channels, const unsigned short* pixels,
+                            const std::vector<std::pair<std::string, std::string>>& attributes) {
+  return api().write_u16_image(format_path, open_path, width, height, channels, pixels, attributes);
+}
+
 std::unique_ptr<Reader> open(const std::string& path, std::string* error) { return api().open(path, error); }
 
 std::string module_path() {

@@ -37,6 +37,11 @@ std::string write_float_image(const std::string& format_path, const std::string&
                               const std::vector<std::string>& channels, const float* pixels,
                               const std::vector<std::pair<std::string, std::string>>& attributes);
 
+// The same for 16-bit unsigned pixels (raw mosaics in DN, as camera SDKs save them in PNG or TIFF).
+std::string write_u16_image(const std::string& format_path, const std::string& open_path, int width, int height,
+                            const std::vector<std::string>& channels, const unsigned short* pixels,
+                            const std::vector<std::pair<std::string, std::string>>& attributes);
+
 // A multi-part image file read one part at a time (OpenImageIO's ImageInput, narrowed).
 class Reader {
  public:
@@ -48,6 +53,9 @@ class Reader {
   virtual int channel_index(const std::string& name) const = 0;  // -1 if absent
   virtual std::string string_attribute(const std::string& name, const std::string& fallback) const = 0;
   virtual float float_attribute(const std::string& name) const = 0;
+  // The file's pixel type as OpenImageIO names it ("uint8", "uint16", "float", …): read() scales
+  // unsigned integers to [0, 1], so an integer pixel is value·(2^bits − 1).
+  virtual std::string pixel_format() const = 0;
   // All channels of `part` as interleaved floats into `out` (width·height·nchannels).
   virtual bool read(int part, float* out) = 0;
   virtual std::string error() = 0;

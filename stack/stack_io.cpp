@@ -26,8 +26,10 @@
 #include <OpenEXR/ImfThreading.h>
 #include <OpenEXR/ImfVecAttribute.h>
 
+#include "camera/orientation.h"
 #include "scene/scene.h"
 #include "scene/scene_error.h"
+#include "scene/truth.h"
 #include "stack/temp_files.h"
 
 namespace skypol::stack {
@@ -71,9 +73,11 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
     h.channels().insert(c, Imf::Channel(half && !stays_float(c) ? Imf::HALF : Imf::FLOAT));
   }
   // OpenEXR's standard attributes where they exist (capDate in UTC, so utcOffset = 0).
-  Imf::addLatitude(h, static_cast<float>(t.site.latitude_deg));
-  Imf::addLongitude(h, static_cast<float>(t.site.longitude_deg));
-  Imf::addAltitude(h, static_cast<float>(t.site.height_m));
+  if (sh.site_known) {
+    Imf::addLatitude(h, static_cast<float>(t.site.latitude_deg));
+    Imf::addLongitude(h, static_cast<float>(t.site.longitude_deg));
+    Imf::addAltitude(h, static_cast<float>(t.site.height_m));
+  }
   const sky::CalendarUtc c = sky::to_calendar(t.time);
   char date[32];
   std::snprintf(date, sizeof date, "%04d:%02d:%02d %02d:%02d:%02d", c.year, c.month, c.day, c.hour, c.minute,
@@ -84,24 +88,34 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   put<Imf::StringAttribute>(h, "skypol:version", std::string("skypol 0.1"));
   put<Imf::StringAttribute>(h, "skypol:time", sky::format_iso8601(t.time));
   put<Imf::DoubleAttribute>(h, "skypol:unixTime", t.time.unix_seconds);
-  put<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", t.site.latitude_deg);
-  put<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", t.site.longitude_deg);
-  put<Imf::DoubleAttribute>(h, "skypol:heightM", t.site.height_m);
-  put<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", t.sun.azimuth * kDeg);
-  put<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", t.sun.elevation * kDeg);
-  put<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", t.sun.declination * kDeg);
-  put<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", t.sun.hour_angle * kDeg);
-  put<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", Imath::V3d(t.sun.direction.x(), t.sun.direction.y(), t.sun.direction.z()));
-  Imath::M33d m;
-  for (int r = 0; r < 3; ++r)
-    for (int col = 0; col < 3; ++col) m[r][col] = t.world_from_camera(r, col);
-  put<Imf::M33dAttribute>(h, "skypol:worldFromCamera", m);
-  put<Imf::DoubleAttribute>(h, "skypol:headingDeg", t.heading_deg);
+  if (sh.site_known) {
+    put<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", t.site.latitude_deg);
+    put<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", t.site.longitude_deg);
+    put<Imf::DoubleAttribute>(h, "skypol:heightM", t.site.height_m);
+    put<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", t.sun.azimuth * kDeg);
+    put<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", t.sun.elevation * kDeg);
+    put<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", t.sun.declination * kDeg);
+    put<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", t.sun.hour_angle * kDeg);
+    put<Imf::V3dAttribute>(h, "skypol:sunDirectionENU",
+                           Imath::V3d(t.sun.direction.x(), t.sun.direction.y(), t.sun.direction.z()));
+  }
+  if (!sh.truth_known) {
+    // A capture: what the estimators are asked for is not in the file (docs/exr-format.md).
+    put<Imf::StringAttribute>(h, "skypol:truth", std::string("unknown"));
+    put<Imf::IntAttribute>(h, "skypol:siteKnown", sh.site_known ? 1 : 0);
+  }
   put<Imf::DoubleAttribute>(h, "skypol:tiltDeg", t.tilt_deg);
   put<Imf::DoubleAttribute>(h, "skypol:rollDeg", t.roll_deg);
-  put<Imf::V3dAttribute>(h, "skypol:poleENU", Imath::V3d(t.pole_enu.x(), t.pole_enu.y(), t.pole_enu.z()));
-  put<Imf::IntAttribute>(h, "skypol:poleIsNorth", t.pole_is_north ? 1 : 0);
-  if (t.pole_pixel) put<Imf::V2dAttribute>(h, "skypol:polePixel", Imath::V2d(t.pole_pixel->x(), t.pole_pixel->y()));
+  if (sh.truth_known) {
+    Imath::M33d m;
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) m[r][col] = t.world_from_camera(r, col);
+    put<Imf::M33dAttribute>(h, "skypol:worldFromCamera", m);
+    put<Imf::DoubleAttribute>(h, "skypol:headingDeg", t.heading_deg);
+    put<Imf::V3dAttribute>(h, "skypol:poleENU", Imath::V3d(t.pole_enu.x(), t.pole_enu.y(), t.pole_enu.z()));
+    put<Imf::IntAttribute>(h, "skypol:poleIsNorth", t.pole_is_north ? 1 : 0);
+    if (t.pole_pixel) put<Imf::V2dAttribute>(h, "skypol:polePixel", Imath::V2d(t.pole_pixel->x(), t.pole_pixel->y()));
+  }
   std::string bands;
   for (const std::string& b : sh.bands) bands += (bands.empty() ? "" : ",") + b;
   put<Imf::StringAttribute>(h, "skypol:bands", bands);
@@ -122,9 +136,44 @@ const A& need(const Imf::Header& h, const char* name, const std::string& path, i
   return *a;
 }
 
+// What a part's header says it knows (StackHeader::truth_known, site_known).
+struct Known {
+  bool truth = true;
+  bool site = true;
+};
+Known known_of(const Imf::Header& h) {
+  Known k;
+  const auto* truth = h.findTypedAttribute<Imf::StringAttribute>("skypol:truth");
+  k.truth = !truth || truth->value() != "unknown";
+  const auto* site = h.findTypedAttribute<Imf::IntAttribute>("skypol:siteKnown");
+  k.site = k.truth || (site && site->value() != 0);
+  return k;
+}
+
 scene::Truth read_truth(const Imf::Header& h, const std::string& path, int part) {
   scene::Truth t;
   t.time = sky::Instant{need<Imf::DoubleAttribute>(h, "skypol:unixTime", path, part).value()};
+  const Known k = known_of(h);
+  if (!k.truth) {
+    // A capture: its time and attitude; the site and the sun when known; heading 0 and no pole.
+    t.tilt_deg = need<Imf::DoubleAttribute>(h, "skypol:tiltDeg", path, part).value();
+    t.roll_deg = need<Imf::DoubleAttribute>(h, "skypol:rollDeg", path, part).value();
+    t.world_from_camera = camera::world_from_heading_tilt_roll(0.0, t.tilt_deg, t.roll_deg);
+    if (k.site) {
+      t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
+      t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
+      t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
+      t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDeg;
+      t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDeg;
+      t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDeg;
+      t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDeg;
+      const Imath::V3d s = need<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", path, part).value();
+      t.sun.direction = Eigen::Vector3d(s.x, s.y, s.z);
+      t.pole_enu = scene::visible_pole(t.site.latitude_deg);
+      t.pole_is_north = t.site.latitude_deg >= 0;
+    }
+    return t;
+  }
   t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
   t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
   t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
@@ -244,6 +293,9 @@ Stack read_stack(const std::string& path, const std::vector<std::string>& only_c
     stack.scene_text = need<Imf::StringAttribute>(h0, "skypol:scene", path, 0).value();
     stack.bands = split_commas(need<Imf::StringAttribute>(h0, "skypol:bands", path, 0).value());
     stack.camera = scene::build_camera(scene::parse_camera(stack.camera_description, path + " [skypol:camera]"));
+    const Known known = known_of(h0);
+    stack.truth_known = known.truth;
+    stack.site_known = known.site;
     for (int i = 0; i < parts; ++i) {
       const Imf::Header& h = file.header(i);
       Frame frame;
@@ -300,6 +352,9 @@ StackSummary peek_stack(const std::string& path) {
     s.height = dw.max.y - dw.min.y + 1;
     s.bands = split_commas(need<Imf::StringAttribute>(h0, "skypol:bands", path, 0).value());
     for (auto it = h0.channels().begin(); it != h0.channels().end(); ++it) s.channels.emplace_back(it.name());
+    const Known known = known_of(h0);
+    s.truth_known = known.truth;
+    s.site_known = known.site;
   } catch (const scene::SceneError&) {
     throw;
   } catch (const std::exception& e) {
@@ -321,8 +376,31 @@ std::string describe_stack(const std::string& path) {
       os << " " << it.name() << (it.channel().type == Imf::HALF ? "(half)" : "");
     }
     os << "\ncamera:\n" << need<Imf::StringAttribute>(h0, "skypol:camera", path, 0).value();
-    os << "frames (degrees; pole = the celestial pole the site sees):\n";
+    const Known known = known_of(h0);
     char line[512];
+    if (!known.truth) {
+      // A capture: times and, when given, the site and the sun; the heading is what it is for.
+      os << "truth: unknown (an imported capture: heading and pole are for the estimators to find"
+         << (known.site ? "" : "; site unknown") << ")\n";
+      os << "frames (degrees):\n";
+      std::snprintf(line, sizeof line, "%-3s %-22s %9s %9s %8s %8s %8s %8s\n", "#", "time (UTC)", "lat", "lon",
+                    "sun az", "sun el", "tilt", "roll");
+      os << line;
+      for (int i = 0; i < file.parts(); ++i) {
+        const scene::Truth t = read_truth(file.header(i), path, i);
+        if (known.site) {
+          std::snprintf(line, sizeof line, "%-3d %-22s %9.5f %9.5f %8.3f %8.3f %8.3f %8.3f\n", i,
+                        sky::format_iso8601(t.time).c_str(), t.site.latitude_deg, t.site.longitude_deg,
+                        t.sun.azimuth * kDeg, t.sun.elevation * kDeg, t.tilt_deg, t.roll_deg);
+        } else {
+          std::snprintf(line, sizeof line, "%-3d %-22s %9s %9s %8s %8s %8.3f %8.3f\n", i,
+                        sky::format_iso8601(t.time).c_str(), "?", "?", "?", "?", t.tilt_deg, t.roll_deg);
+        }
+        os << line;
+      }
+      return os.str();
+    }
+    os << "frames (degrees; pole = the celestial pole the site sees):\n";
     std::snprintf(line, sizeof line, "%-3s %-22s %9s %9s %8s %8s %9s %8s %8s %8s %17s\n", "#", "time (UTC)", "lat",
                   "lon", "sun az", "sun el", "sun dec", "hour ang", "heading", "pole", "pole pixel");
     os << line;

@@ -18,6 +18,12 @@ struct StackHeader {
   std::string camera_description;  // TOML of the [camera] section (scene/scene.h)
   std::string scene_text;          // the scene as loaded (provenance)
   std::string sky_model;           // e.g. "rayleigh"
+  // An imported capture (stack/capture_import.h) says what it does not know: without the truth
+  // the heading, world-from-camera, pole and pole pixel attributes are left out and
+  // skypol:truth = "unknown"; without the site also the site's and the sun's
+  // (skypol:siteKnown = 0). docs/exr-format.md, "Captures".
+  bool truth_known = true;
+  bool site_known = true;
 };
 
 struct WriteOptions {
@@ -53,10 +59,16 @@ struct StackSummary {
   int width = 0, height = 0;
   std::vector<std::string> bands;
   std::vector<std::string> channels;
+  bool truth_known = true;  // as StackHeader
+  bool site_known = true;
 };
 StackSummary peek_stack(const std::string& path);
 
 // Header-only view: one line of truth per part and the stack's shared facts, for `skypol info`.
 std::string describe_stack(const std::string& path);
+
+// Every attribute of every part's header, as JSON (`skypol info --json`): numbers at full
+// precision (%.17g), vectors and matrices as arrays, the truth included.
+std::string describe_stack_json(const std::string& path);
 
 }  // namespace skypol::stack

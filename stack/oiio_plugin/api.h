@@ -12,7 +12,7 @@
 
 namespace skypol::stack::oiio {
 
-inline constexpr int kApiVersion = 1;
+inline constexpr int kApiVersion = 2;
 
 struct Api {
   int version;
@@ -21,6 +21,9 @@ struct Api {
   std::string (*write_float_image)(const std::string& format_path, const std::string& open_path, int width,
                                    int height, const std::vector<std::string>& channels, const float* pixels,
                                    const std::vector<std::pair<std::string, std::string>>& attributes);
+  std::string (*write_u16_image)(const std::string& format_path, const std::string& open_path, int width,
+                                 int height, const std::vector<std::string>& channels, const unsigned short* pixels,
+                                 const std::vector<std::pair<std::string, std::string>>& attributes);
   std::unique_ptr<Reader> (*open)(const std::string& path, std::string* error);
 };
 

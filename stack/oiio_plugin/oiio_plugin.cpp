@@ -37,10 +37,10 @@ std::string png(const std::string& path, int width, int height, float* rgb, cons
   return {};
 }
 
-std::string float_image(const std::string& format_path, const std::string& open_path, int width, int height,
-                        const std::vector<std::string>& channels, const float* pixels,
+std::string typed_image(const std::string& format_path, const std::string& open_path, int width, int height,
+                        const std::vector<std::string>& channels, OIIO::TypeDesc type, const void* pixels,
                         const std::vector<std::pair<std::string, std::string>>& attributes) {
-  OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), OIIO::TypeDesc::FLOAT);
+  OIIO::ImageSpec spec(width, height, static_cast<int>(channels.size()), type);
   spec.channelnames = channels;
   for (const auto& [name, value] : attributes) spec.attribute(name, value);
   auto out = OIIO::ImageOutput::create(format_path);
@@ -48,7 +48,7 @@ std::string float_image(const std::string& format_path, const std::string& open_
     const std::string e = OIIO::geterror();
     return e.empty() ? "no writer for this file type" : e;
   }
-  if (!out->open(open_path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close()) {
+  if (!out->open(open_path, spec) || !out->write_image(type, pixels) || !out->close()) {
     // OpenImageIO keeps an open or write failure on the output object, not in its global error.
     std::string e = out->geterror();
     if (e.empty()) e = OIIO::geterror();
@@ -56,6 +56,18 @@ std::string float_image(const std::string& format_path, const std::string& open_
     return e;
   }
   return {};
+}
+
+std::string float_image(const std::string& format_path, const std::string& open_path, int width, int height,
+                        const std::vector<std::string>& channels, const float* pixels,
+                        const std::vector<std::pair<std::string, std::string>>& attributes) {
+  return typed_image(format_path, open_path, width, height, channels, OIIO::TypeDesc::FLOAT, pixels, attributes);
+}
+
+std::string u16_image(const std::string& format_path, const std::string& open_path, int width, int height,
+                      const std::vector<std::string>& channels, const unsigned short* pixels,
+                      const std::vector<std::pair<std::string, std::string>>& attributes) {
+  return typed_image(format_path, open_path, width, height, channels, OIIO::TypeDesc::UINT16, pixels, attributes);
 }
 
 class OiioReader final : public Reader {
@@ -70,6 +82,7 @@ class OiioReader final : public Reader {
     return in_->spec().get_string_attribute(name, fallback);
   }
   float float_attribute(const std::string& name) const override { return in_->spec().get_float_attribute(name); }
+  std::string pixel_format() const override { return in_->spec().format.c_str(); }
   bool read(int part, float* out) override {
     return in_->read_image(part, 0, 0, in_->spec().nchannels, OIIO::TypeDesc::FLOAT, out);
   }
@@ -88,7 +101,7 @@ std::unique_ptr<Reader> open_image(const std::string& path, std::string* error) 
   return std::make_unique<OiioReader>(std::move(in));
 }
 
-const Api kApi{kApiVersion, &png, &float_image, &open_image};
+const Api kApi{kApiVersion, &png, &float_image, &u16_image, &open_image};
 
 }  // namespace
 }  // namespace skypol::stack::oiio
