@@ -1,7 +1,11 @@
 #include "render/pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
 #include <optional>
 #include <utility>
 
@@ -17,10 +21,31 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// The last stack's frame, kept for the next stack on this thread (a sweep renders one stack per
-// variant): its pixel memory is already allocated and touched, so a next stack of the same size
-// pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
-thread_local stack::Frame t_spare_frame;
+// The last stack's two frames (the writer renders one while it writes the other), kept for the next
+// stack on this thread (a sweep renders one stack per variant): their pixel memory is already
+// allocated and touched, so a next stack of the same size pays neither the allocation nor the
+// page faults ("into a new frame" in `skypol bench`).
+thread_local std::array<stack::Frame, 2> t_spare_frames;
+
+// The last stack's camera rays and the camera they were traced for: a sweep's next variant that
+// keeps the camera (and has no occluders) reuses them instead of tracing every pixel again. The
+// key is the camera's canonical scene text plus the built lens's name and parameters at full
+// precision (an OCamCalib file's contents are not in the text).
+struct PlanesCache {
+  std::string key;
+  std::shared_ptr<const RayPlanes> planes;
+};
+thread_local PlanesCache t_planes;
+
+std::string planes_key(const scene::Scene& scene, const camera::Camera& cam) {
+  std::string key = scene.camera.description + "\n" + cam.lens().name();
+  char buf[64];
+  for (const auto& [name, value] : cam.lens().parameters()) {
+    std::snprintf(buf, sizeof buf, " %.17g", value);
+    key += " " + name + buf;
+  }
+  return key;
+}
 }  // namespace
 
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
@@ -47,6 +72,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   ro.seed = scene.render.seed;
   ro.bands = scene.render.bands;
   ro.channels = scene.output.channels;
+  // One frame: its rays are used once, so they are traced per tile, never stored (unless a
+  // previous stack left planes for this camera).
+  ro.keep_rays = truths.size() > 1;
   std::vector<std::string> written = channel_names(ro);
   const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
   if (keep_raw) written.emplace_back("raw");
@@ -62,10 +90,17 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   }
   std::optional<stack::PreviewFolder> previews;
   if (scene.output.previews) previews.emplace(stack::preview_folder_for(out_path));
-  const Renderer renderer(cam, ro, make_occluders(scene.occluders));  // null without occluders
-  // Refilled for every part: pixel memory is allocated once per stack, or not at all when the
-  // previous stack left its frame (render() resizes the channels, reusing what fits).
-  stack::Frame f = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
+  std::shared_ptr<const Occluders> occluders = make_occluders(scene.occluders);  // null without occluders
+  const std::string key = occluders || ro.spp != 1 ? std::string() : planes_key(scene, *cam);
+  const bool reuse = !key.empty() && t_planes.planes && t_planes.key == key &&
+                     t_planes.planes->tile_rows() == ro.tile_rows;
+  const Renderer renderer(cam, ro, occluders, reuse ? t_planes.planes : nullptr);
+  if (!key.empty() && renderer.ray_planes()) t_planes = {key, renderer.ray_planes()};
+  // Refilled every other part: pixel memory is allocated once per stack, or not at all when the
+  // previous stack left its frames (render() resizes the channels, reusing what fits). The second
+  // frame is first touched by part 1, so a one-part stack pays for one frame only.
+  std::array<stack::Frame, 2> frames = std::exchange(t_spare_frames, {});
+  if (frames[0].channels.empty()) frames[0] = renderer.new_frame();
   report.setup_seconds = since(t_setup);
 
   stack::StackHeader header;
@@ -77,26 +112,23 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
 
-  const auto t_total = Clock::now();
   double render_s = 0;
-  stack::write_stack_reusing(out_path, truths, written, cam->width(), cam->height(), header, wo,
-                      [&](std::size_t i) -> const stack::Frame& {
-    if (progress && i > 0) progress(i, truths.size());
-    const auto t0 = Clock::now();
-    renderer.render(band_skies, truths[i].sun, f);
-    if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
-    render_s += since(t0);
-    f.truth = truths[i];
-    if (previews) previews->add(i, f, *cam, scene.render.bands.front());
-    // The writer reads only the channels the file keeps; the others (what a sensor or the previews
-    // needed) stay in the frame, whose memory the next part reuses.
-    return f;
-  });
-  t_spare_frame = std::move(f);
+  report.write_seconds = stack::write_stack_overlapped(
+      out_path, truths, written, cam->width(), cam->height(), header, wo, frames, [&](std::size_t i, stack::Frame& f) {
+        if (progress && i > 0) progress(i, truths.size());
+        const auto t0 = Clock::now();
+        renderer.render(band_skies, truths[i].sun, f);
+        if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
+        render_s += since(t0);
+        f.truth = truths[i];
+        if (previews) previews->add(i, f, *cam, scene.render.bands.front());
+        // The writer reads only the channels the file keeps; the others (what a sensor or the
+        // previews needed) stay in the frame, whose memory a later part reuses.
+      });
+  t_spare_frames = std::move(frames);
   if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());
   report.render_seconds = render_s;
-  report.write_seconds = since(t_total) - render_s;
   return report;
 }
 
