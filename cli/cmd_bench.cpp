@@ -38,7 +38,7 @@ void print_text(const std::string& scene, const studies::BenchFigures& b) {
               b.skypol_write_best_ms / b.openexr_write_best_ms);
   std::printf("render + write, best  %8.1f ms/frame   (%.2fx OpenEXR alone's best)\n", b.render_and_write_best_ms,
               b.render_and_write_best_ms / b.openexr_write_best_ms);
-  std::printf("end to end            %8.1f ms/frame   (%.2fx OpenEXR alone)   (skypol's pipeline, mean)\n",
+  std::printf("end to end            %8.1f ms/frame   (%.2fx OpenEXR alone)   (skypol's pipeline, wall)\n",
               b.end_to_end_ms, b.end_to_end_ms / b.openexr_write_ms);
   if (b.zip_levels.empty()) return;
   std::printf("zip level (OpenEXR alone, one frame, best of 3; %s pixels)\n", b.half ? "half" : "float");
