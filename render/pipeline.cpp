@@ -1,7 +1,6 @@
 #include "render/pipeline.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -21,11 +20,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// The last stack's two frames (the writer renders one while it writes the other), kept for the next
-// stack on this thread (a sweep renders one stack per variant): their pixel memory is already
-// allocated and touched, so a next stack of the same size pays neither the allocation nor the
-// page faults ("into a new frame" in `skypol bench`).
-thread_local std::array<stack::Frame, 2> t_spare_frames;
+// The last stack's frame, kept for the next stack on this thread (a sweep renders one stack per
+// variant): its pixel memory is already allocated and touched, so a next stack of the same size
+// pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
+thread_local stack::Frame t_spare_frame;
 
 // The last stack's camera rays and the camera they were traced for: a sweep's next variant that
 // keeps the camera (and has no occluders) reuses them instead of tracing every pixel again. The
@@ -96,11 +94,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
                      t_planes.planes->tile_rows() == ro.tile_rows;
   const Renderer renderer(cam, ro, occluders, reuse ? t_planes.planes : nullptr);
   if (!key.empty() && renderer.ray_planes()) t_planes = {key, renderer.ray_planes()};
-  // Refilled every other part: pixel memory is allocated once per stack, or not at all when the
-  // previous stack left its frames (render() resizes the channels, reusing what fits). The second
-  // frame is first touched by part 1, so a one-part stack pays for one frame only.
-  std::array<stack::Frame, 2> frames = std::exchange(t_spare_frames, {});
-  if (frames[0].channels.empty()) frames[0] = renderer.new_frame();
+  // Refilled for every part: pixel memory is allocated once per stack, or not at all when the
+  // previous stack left its frame (render() resizes the channels, reusing what fits).
+  stack::Frame frame = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
   report.setup_seconds = since(t_setup);
 
   stack::StackHeader header;
@@ -112,9 +108,15 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
 
+  // Parts are rendered and written in turn into one frame. stack::write_stack_overlapped (the
+  // next part rendered while this one is encoded) measured 20 % more CPU and no shorter wall time
+  // on the 2-core machine, its TBB workers and OpenEXR's pool competing for the same cores
+  // (docs/benchmarks.md section 9); it stays for machines where writing waits on a disk.
   double render_s = 0;
-  report.write_seconds = stack::write_stack_overlapped(
-      out_path, truths, written, cam->width(), cam->height(), header, wo, frames, [&](std::size_t i, stack::Frame& f) {
+  const auto t_total = Clock::now();
+  stack::Frame& f = frame;
+  stack::write_stack_reusing(
+      out_path, truths, written, cam->width(), cam->height(), header, wo, [&](std::size_t i) -> const stack::Frame& {
         if (progress && i > 0) progress(i, truths.size());
         const auto t0 = Clock::now();
         renderer.render(band_skies, truths[i].sun, f);
@@ -124,8 +126,10 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
         if (previews) previews->add(i, f, *cam, scene.render.bands.front());
         // The writer reads only the channels the file keeps; the others (what a sensor or the
         // previews needed) stay in the frame, whose memory a later part reuses.
+        return f;
       });
-  t_spare_frames = std::move(frames);
+  report.write_seconds = since(t_total) - render_s;
+  t_spare_frame = std::move(frame);
   if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());
   report.render_seconds = render_s;

@@ -17,7 +17,7 @@ struct RenderReport {
   int width = 0, height = 0;  // of each frame (after binning)
   double setup_seconds = 0;   // camera rays (and occlusion) and frame memory, once per stack
   double render_seconds = 0;  // sky evaluation, all frames
-  double write_seconds = 0;   // encoding and writing, all frames (the next frame renders meanwhile)
+  double write_seconds = 0;   // encoding and writing, all frames
   int tables_built = 0;       // VRTE tables solved (vrte sky only; 0 with warm tables)
   int tables_read = 0;        // VRTE tables read from the cache (sky/sky_spec.h: default_table_cache_dir)
 };

@@ -41,7 +41,7 @@ struct BenchFigures {
   double skypol_write_ms = 0;       // skypol's writer, per frame (headers, truth, temp file, rename)
   double skypol_write_best_ms = 0;
   double render_and_write_best_ms = 0;  // the fastest round's render + skypol write
-  double end_to_end_ms = 0;         // render_scene's wall time per frame, set-up excluded (render and write overlap)
+  double end_to_end_ms = 0;         // render_scene's wall time per frame, set-up excluded
   // OpenEXR alone writing the last frame with zip at each level asked for (1 fastest .. 9 smallest;
   // OpenEXR's default is 4); the scene's own compression and pixel type are not changed.
   struct ZipLevel {
