@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -39,6 +40,34 @@ std::optional<CameraRay> Camera::ray(const Eigen::Vector2d& pixel) const {
   const auto d_cam = lens_->ray(pixel);
   if (!d_cam) return std::nullopt;
   return CameraRay{world_from_camera_ * *d_cam, world_from_camera_ * meridional_e0(*d_cam)};
+}
+
+void Camera::ray_row(int y, int x0, std::size_t n, const RayRowOut& out) const {
+  // The lens's camera-frame directions in blocks that stay in L1, then the same expressions as
+  // ray() (rotation, meridional_e0) per pixel.
+  constexpr std::size_t kBlock = 256;
+  double cx[kBlock], cy[kBlock], cz[kBlock];
+  unsigned char ok[kBlock];
+  const Eigen::Matrix3d& r = world_from_camera_;
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t m = std::min(kBlock, n - b);
+    lens_->ray_row(static_cast<double>(y), static_cast<double>(x0) + static_cast<double>(b), m, cx, cy, cz, ok);
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::size_t k = b + i;
+      if (!ok[i]) {
+        out.dx[k] = 0, out.dy[k] = 0, out.dz[k] = 1;
+        out.ux[k] = 1, out.uy[k] = 0, out.uz[k] = 0;
+        out.valid[k] = 0;
+        continue;
+      }
+      const Eigen::Vector3d d_cam(cx[i], cy[i], cz[i]);
+      const Eigen::Vector3f d = (r * d_cam).cast<float>();
+      const Eigen::Vector3f e0 = (r * meridional_e0(d_cam)).cast<float>();
+      out.dx[k] = d.x(), out.dy[k] = d.y(), out.dz[k] = d.z();
+      out.ux[k] = e0.x(), out.uy[k] = e0.y(), out.uz[k] = e0.z();
+      out.valid[k] = 1;
+    }
+  }
 }
 
 std::optional<Eigen::Vector2d> Camera::project(const Eigen::Vector3d& dir_world) const {

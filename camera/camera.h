@@ -3,6 +3,7 @@
 // pixel see, and which world direction does the sensor's 0° polarizer correspond to there?
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 
@@ -27,6 +28,13 @@ struct CameraRay {
   Eigen::Vector3d e0;
 };
 
+// Where Camera::ray_row writes: float planes, one value per pixel of the row.
+struct RayRowOut {
+  float *dx, *dy, *dz;  // CameraRay::d
+  float *ux, *uy, *uz;  // CameraRay::e0
+  float* valid;         // 1 where ray() answers, else 0 (and then d = +z, e0 = +x)
+};
+
 class Camera {
  public:
   Camera(std::shared_ptr<const Lens> lens, const Eigen::Matrix3d& world_from_camera,
@@ -40,6 +48,10 @@ class Camera {
 
   // nullopt outside the image circle (or where the lens inverse fails).
   std::optional<CameraRay> ray(const Eigen::Vector2d& pixel) const;
+  // ray() of the n pixels (x0 + i, y), i < n, cast to float: the renderer's per-stack planes.
+  // The same bits as ray() pixel by pixel, at the cost of the arithmetic (Lens::ray_row, no
+  // per-pixel virtual call, optional or heap).
+  void ray_row(int y, int x0, std::size_t n, const RayRowOut& out) const;
   // Pixel of a world direction, nullopt if the lens cannot image it.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& dir_world) const;
 

@@ -5,6 +5,7 @@
 // beside the model, with the paper or library it matches.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -35,6 +36,13 @@ class Lens {
   // Unit camera-frame direction of a pixel, or nullopt outside the image circle or where the
   // inverse does not converge. Never NaN.
   virtual std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const = 0;
+
+  // ray() of the n pixels (x0 + i, y), i < n, in one call: d{x,y,z}[i] the unit direction and
+  // valid[i] = 1, or valid[i] = 0 and d = (0, 0, 1) where ray() gives nullopt. Bit for bit what
+  // ray() gives (tests/camera/ray_row_test); a model overrides it to drop the per-pixel virtual
+  // call and optional. The base version calls ray() per pixel, so a new model works unchanged.
+  virtual void ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                       unsigned char* valid) const;
 
   // The largest angle off the optical axis the lens images (radians; > π/2 for a 185° fisheye).
   virtual double max_field_angle() const = 0;

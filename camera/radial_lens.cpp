@@ -99,6 +99,23 @@ std::optional<Eigen::Vector3d> RadialLens::ray(const Eigen::Vector2d& pixel) con
   return detail::direction(std::min(angle(m->r), theta_max_), m->mx, m->my, m->r);
 }
 
+void RadialLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                         unsigned char* valid) const {
+  // One loop per mapping, its closed-form inverse inlined (angle() per mapping, r ≥ 0 here).
+  const double r_max = radius(theta_max_), tm = theta_max_;
+  auto row = [&](auto theta_of) {
+    detail::radial_ray_row(k_, r_max, [&](double r) { return std::min(theta_of(r), tm); }, y, x0, n, dx, dy, dz, valid);
+  };
+  switch (mapping_) {
+    case Mapping::perspective: return row([](double r) { return std::atan(r); });
+    case Mapping::stereographic: return row([](double r) { return 2 * std::atan(r / 2); });
+    case Mapping::equidistant: return row([](double r) { return r; });
+    case Mapping::equisolid: return row([](double r) { return 2 * std::asin(std::min(r / 2, 1.0)); });
+    case Mapping::orthographic: return row([](double r) { return std::asin(std::min(r, 1.0)); });
+  }
+  Lens::ray_row(y, x0, n, dx, dy, dz, valid);
+}
+
 std::shared_ptr<const Lens> RadialLens::rescaled(double s) const {
   return std::make_shared<RadialLens>(mapping_, detail::rescale_intrinsics(k_, s), theta_max_);
 }

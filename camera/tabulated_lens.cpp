@@ -131,6 +131,11 @@ std::optional<Eigen::Vector3d> TabulatedLens::ray(const Eigen::Vector2d& pixel) 
   return detail::direction(angle(m->r), m->mx, m->my, m->r);
 }
 
+void TabulatedLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                            unsigned char* valid) const {
+  detail::radial_ray_row(k_, t_.height.back(), [this](double r) { return angle(r); }, y, x0, n, dx, dy, dz, valid);
+}
+
 std::shared_ptr<const Lens> TabulatedLens::rescaled(double s) const {
   return std::make_shared<TabulatedLens>(detail::rescale_intrinsics(k_, s), t_);
 }

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "render/occluders_embree.h"
@@ -75,6 +77,26 @@ void refuse_blind_camera(const scene::Scene& scene, const camera::Camera& cam) {
                               std::to_string(w) + "x" + std::to_string(h) + " image " + (seen == 0 ? "sees" : "see") +
                               " the sky; " + buf);
 }
+
+// The last stack's camera rays and the camera they were traced for: a sweep's next variant that
+// keeps the camera (and has no occluders) reuses them instead of tracing every pixel again. The
+// key is the camera's canonical scene text plus the built lens's name and parameters at full
+// precision (an OCamCalib file's contents are not in the text).
+struct PlanesCache {
+  std::string key;
+  std::shared_ptr<const RayPlanes> planes;
+};
+thread_local PlanesCache t_planes;
+
+std::string planes_key(const scene::Scene& scene, const camera::Camera& cam) {
+  std::string key = scene.camera.description + "\n" + cam.lens().name();
+  char buf[64];
+  for (const auto& [name, value] : cam.lens().parameters()) {
+    std::snprintf(buf, sizeof buf, " %.17g", value);
+    key += " " + name + buf;
+  }
+  return key;
+}
 }  // namespace
 
 RenderReport render_scene(const scene::Scene& scene, const std::string& out_path,
@@ -102,6 +124,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   ro.seed = scene.render.seed;
   ro.bands = scene.render.bands;
   ro.channels = scene.output.channels;
+  // One frame: its rays are used once, so they are traced per tile, never stored (unless a
+  // previous stack left planes for this camera).
+  ro.keep_rays = truths.size() > 1;
   std::vector<std::string> written = channel_names(ro);
   const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
   if (keep_raw) written.emplace_back("raw");
@@ -117,10 +142,15 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   }
   std::optional<stack::PreviewFolder> previews;
   if (scene.output.previews) previews.emplace(stack::preview_folder_for(out_path));
-  const Renderer renderer(cam, ro, make_occluders(scene.occluders));  // null without occluders
+  std::shared_ptr<const Occluders> occluders = make_occluders(scene.occluders);  // null without occluders
+  const std::string key = occluders || ro.spp != 1 ? std::string() : planes_key(scene, *cam);
+  const bool reuse = !key.empty() && t_planes.planes && t_planes.key == key &&
+                     t_planes.planes->tile_rows() == ro.tile_rows;
+  const Renderer renderer(cam, ro, occluders, reuse ? t_planes.planes : nullptr);
+  if (!key.empty() && renderer.ray_planes()) t_planes = {key, renderer.ray_planes()};
   // Refilled for every part: pixel memory is allocated once per stack, or not at all when the
   // previous stack left its frame (render() resizes the channels, reusing what fits).
-  stack::Frame f = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
+  stack::Frame frame = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
   report.setup_seconds = since(t_setup);
 
   stack::StackHeader header;
@@ -132,26 +162,31 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
 
-  const auto t_total = Clock::now();
+  // Parts are rendered and written in turn into one frame. stack::write_stack_overlapped (the
+  // next part rendered while this one is encoded) measured 20 % more CPU and no shorter wall time
+  // on the 2-core machine, its TBB workers and OpenEXR's pool competing for the same cores
+  // (docs/benchmarks.md section 9); it stays for machines where writing waits on a disk.
   double render_s = 0;
-  stack::write_stack_reusing(out_path, truths, written, cam->width(), cam->height(), header, wo,
-                      [&](std::size_t i) -> const stack::Frame& {
-    if (progress && i > 0) progress(i, truths.size());
-    const auto t0 = Clock::now();
-    renderer.render(band_skies, truths[i].sun, f);
-    if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
-    render_s += since(t0);
-    f.truth = truths[i];
-    if (previews) previews->add(i, f, *cam, scene.render.bands.front());
-    // The writer reads only the channels the file keeps; the others (what a sensor or the previews
-    // needed) stay in the frame, whose memory the next part reuses.
-    return f;
-  });
-  t_spare_frame = std::move(f);
+  const auto t_total = Clock::now();
+  stack::Frame& f = frame;
+  stack::write_stack_reusing(
+      out_path, truths, written, cam->width(), cam->height(), header, wo, [&](std::size_t i) -> const stack::Frame& {
+        if (progress && i > 0) progress(i, truths.size());
+        const auto t0 = Clock::now();
+        renderer.render(band_skies, truths[i].sun, f);
+        if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
+        render_s += since(t0);
+        f.truth = truths[i];
+        if (previews) previews->add(i, f, *cam, scene.render.bands.front());
+        // The writer reads only the channels the file keeps; the others (what a sensor or the
+        // previews needed) stay in the frame, whose memory a later part reuses.
+        return f;
+      });
+  report.write_seconds = since(t_total) - render_s;
+  t_spare_frame = std::move(frame);
   if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());
   report.render_seconds = render_s;
-  report.write_seconds = since(t_total) - render_s;
   return report;
 }
 

@@ -142,52 +142,24 @@ std::vector<std::string> channel_names(const RenderOptions& o) {
 }
 
 Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
-                   std::shared_ptr<const Occluders> occluders)
+                   std::shared_ptr<const Occluders> occluders, std::shared_ptr<const RayPlanes> planes)
     : camera_(std::move(camera)), options_(std::move(options)), occluders_(std::move(occluders)) {
-  const int h = camera_->height();
-  const std::size_t w = static_cast<std::size_t>(camera_->width());
-  const std::size_t n = w * static_cast<std::size_t>(h);
+  const std::size_t n = static_cast<std::size_t>(camera_->width()) * static_cast<std::size_t>(camera_->height());
   if (occluders_ && occluders_->shaded()) surface_s0_.resize(n);
   if (options_.spp != 1) {
     if (!surface_s0_.empty()) shade_sampled();
     return;
   }
-  for (std::vector<float>* plane : {&dx_, &dy_, &dz_, &ux_, &uy_, &uz_, &weight_}) stack::size_channel(*plane, n);
-  spans_.resize(static_cast<std::size_t>(h));
-  struct Scratch {
-    std::vector<sky::ViewRay> rays;
-    std::vector<float> weight;
-  };
-  tbb::enumerable_thread_specific<Scratch> scratch;
-  const int tile = options_.tile_rows;
-  tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
-    Scratch& sc = scratch.local();
-    const int y0 = t * tile, y1 = std::min(h, y0 + tile);
-    const std::size_t first = static_cast<std::size_t>(y0) * w, count = static_cast<std::size_t>(y1 - y0) * w;
-    sc.rays.resize(count);
-    sc.weight.resize(count);
-    const std::span<float> surface =
-        surface_s0_.empty() ? std::span<float>{} : std::span(surface_s0_).subspan(first, count);
-    trace_tile(y0, y1, sc.rays, sc.weight, surface);
-    for (std::size_t k = 0; k < count; ++k) {
-      const sky::ViewRay& r = sc.rays[k];
-      dx_[first + k] = r.d.x(), dy_[first + k] = r.d.y(), dz_[first + k] = r.d.z();
-      ux_[first + k] = r.e0.x(), uy_[first + k] = r.e0.y(), uz_[first + k] = r.e0.z();
-      weight_[first + k] = sc.weight[k];
-    }
-    for (int y = y0; y < y1; ++y) {
-      // Trim the weight-0 pixels at both ends of the row (outside the image circle), keeping
-      // those that show a shaded occluder.
-      const std::size_t at = static_cast<std::size_t>(y - y0) * w;
-      const float* row = sc.weight.data() + at;
-      const float* lit = surface.empty() ? nullptr : surface.data() + at;
-      auto dark = [&](std::size_t x) { return row[x] == 0 && (!lit || lit[x] == 0); };
-      std::size_t x0 = 0, x1 = w;
-      while (x0 < x1 && dark(x0)) ++x0;
-      while (x1 > x0 && dark(x1 - 1)) --x1;
-      spans_[static_cast<std::size_t>(y)] = {static_cast<int>(x0), static_cast<int>(x1)};
-    }
-  });
+  if (planes && !occluders_) {
+    if (planes->width() != camera_->width() || planes->height() != camera_->height() ||
+        planes->tile_rows() != options_.tile_rows)
+      throw std::invalid_argument("renderer: the ray planes offered were made for another camera or tiling");
+    planes_ = std::move(planes);
+    return;
+  }
+  if (!options_.keep_rays && !occluders_) return;  // traced per tile in each render (render_cached)
+  planes_ = std::make_shared<const RayPlanes>(*camera_, options_.tile_rows, occluders_.get(),
+                                              surface_s0_.empty() ? nullptr : &surface_s0_);
 }
 
 void Renderer::shade_sampled() {
@@ -294,12 +266,18 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t width = static_cast<std::size_t>(w);
   const int tile = options_.tile_rows;
+  tbb::enumerable_thread_specific<TileRays> tile_rays;  // used only without planes_
   tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
     alignas(64) float scratch[4][kChunk];
     const int y0 = t * tile, y1 = std::min(h, y0 + tile);
+    TileRays* traced = nullptr;
+    if (!planes_) {
+      traced = &tile_rays.local();
+      traced->trace(*camera_, y0, y1, nullptr);
+    }
     for (int y = y0; y < y1; ++y) {
       const std::size_t row = static_cast<std::size_t>(y) * width;
-      const RowSpan span = spans_[static_cast<std::size_t>(y)];
+      const RayRow span = planes_ ? planes_->row(y) : traced->row(y);
       const std::size_t x0 = static_cast<std::size_t>(span.x0), x1 = static_cast<std::size_t>(span.x1);
       for (const BandOutputs& b : out.bands) {
         for (float* p : {b.s0, b.s1, b.s2, b.s3, b.dolp, b.aolp}) {
@@ -310,10 +288,11 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
       fill_zero(out.mask, row, x0);
       fill_zero(out.mask, row + x1, width - x1);
       for (std::size_t x = x0; x < x1; x += kChunk) {
-        const std::size_t n = std::min(kChunk, x1 - x), i = row + x;
-        const sky::ViewRaysSoA rays{n, dx_.data() + i, dy_.data() + i, dz_.data() + i,
-                                    ux_.data() + i, uy_.data() + i, uz_.data() + i};
-        const float* weight = weight_.data() + i;
+        const std::size_t n = std::min(kChunk, x1 - x), i = row + x, q = x - x0;
+        const float *dx = span.dx + q, *dy = span.dy + q, *dz = span.dz + q;
+        const float *ux = span.ux + q, *uy = span.uy + q, *uz = span.uz + q;
+        const sky::ViewRaysSoA rays{n, dx, dy, dz, ux, uy, uz};
+        const float* weight = span.weight + q;
         for (std::size_t k = 0; k < out.bands.size(); ++k) {
           const BandOutputs& b = out.bands[k];
           const sky::StokesSoA s{b.s0 ? b.s0 + i : scratch[0], b.s1 ? b.s1 + i : scratch[1],
@@ -322,7 +301,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
           if (projected) {
             for (std::size_t j = 0; j < n; ++j) {
               if (weight[j] == 0) continue;
-              const sky::ViewRay r{{dx_[i + j], dy_[i + j], dz_[i + j]}, {ux_[i + j], uy_[i + j], uz_[i + j]}};
+              const sky::ViewRay r{{dx[j], dy[j], dz[j]}, {ux[j], uy[j], uz[j]}};
               const sky::StokesF p = stack::to_projected(*camera_, r, {s.s0[j], s.s1[j], s.s2[j], s.s3[j]});
               s.s0[j] = p.s0, s.s1[j] = p.s1, s.s2[j] = p.s2, s.s3[j] = p.s3;
             }

@@ -2,9 +2,9 @@
 // Stokes vector in the sensor frame, written as the channels a scene asks for.
 //
 // Camera rays do not change over a time series, so at 1 sample per pixel they are computed once
-// per stack (with the occlusion test), kept as structure-of-arrays float planes together with each
-// row's span of sky-seeing pixels, and each frame costs only the sky evaluation over those spans
-// (pixels outside them are zeros). With N > 1 samples per pixel the samples are stratified on an
+// per stack (with the occlusion test) as render/ray_planes.h's float planes of each row's span of
+// sky-seeing pixels, and each frame costs only the sky evaluation over those spans (pixels outside
+// them are zeros); a later stack with the same camera may reuse them (ray_planes()). With N > 1 samples per pixel the samples are stratified on an
 // N-rooks pattern with a jitter seeded by (seed, pixel, sample), recomputed per frame. Output bytes
 // do not depend on the thread count.
 #pragma once
@@ -18,6 +18,7 @@
 #include "camera/camera.h"
 #include "stack/frame.h"
 #include "render/occluders.h"
+#include "render/ray_planes.h"
 #include "sky/sky_model.h"
 
 namespace skypol::render {
@@ -29,6 +30,10 @@ struct RenderOptions {
   // Which of S0, S1, S2, S3, DoLP, AoLP, mask to produce (per band where it applies).
   std::vector<std::string> channels{"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
   int tile_rows = 16;
+  // spp = 1: keep every pixel's ray for the frames to come (RayPlanes). false suits a one-frame
+  // stack without occluders: each render traces its tiles' rays into per-thread scratch instead,
+  // and no full-frame ray memory is ever allocated or faulted in (the output is the same).
+  bool keep_rays = true;
 };
 
 // Channel names a frame will carry for these options ("S0.Y", …, "R", "G", "B", "mask").
@@ -36,9 +41,12 @@ std::vector<std::string> channel_names(const RenderOptions& options);
 
 class Renderer {
  public:
-  // occluders may be null (no occluders: no ray tracing at all).
+  // occluders may be null (no occluders: no ray tracing at all). planes: the ray_planes() of an
+  // earlier renderer with the same camera and tile_rows and no occluders, to skip computing them
+  // again (ignored at spp > 1 or with occluders; std::invalid_argument if their size differs).
   Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
-           std::shared_ptr<const Occluders> occluders = nullptr);
+           std::shared_ptr<const Occluders> occluders = nullptr,
+           std::shared_ptr<const RayPlanes> planes = nullptr);
 
   // The channels of one frame (Truth is left default; the caller fills it).
   stack::Frame render(const sky::SkyModel& sky, const sky::Sun& sun) const;
@@ -59,6 +67,8 @@ class Renderer {
 
   const camera::Camera& camera() const { return *camera_; }
   const RenderOptions& options() const { return options_; }
+  // The per-stack rays (spp = 1 and kept only; null otherwise), shareable with a later Renderer.
+  const std::shared_ptr<const RayPlanes>& ray_planes() const { return planes_; }
 
  private:
   // Samples of rows [y0, y1): rays[k] and weight[k] (1 where the sample sees the sky, 0 outside
@@ -75,13 +85,8 @@ class Renderer {
   RenderOptions options_;
   std::shared_ptr<const Occluders> occluders_;
 
-  // spp = 1: every pixel's ray as float planes (index y·width + x) and its weight; per row, the
-  // columns [x0, x1) outside which every weight is 0.
-  struct RowSpan {
-    int x0 = 0, x1 = 0;
-  };
-  std::vector<float> dx_, dy_, dz_, ux_, uy_, uz_, weight_;
-  std::vector<RowSpan> spans_;
+  // spp = 1: the rays of each row's span of pixels that may see the sky.
+  std::shared_ptr<const RayPlanes> planes_;
 
   // Shaded occluders only: per pixel, the mean S0 of the occluder surfaces its samples meet
   // (unpolarized, added to S0 of every frame before DoLP and AoLP). Empty otherwise.

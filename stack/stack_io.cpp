@@ -1,9 +1,11 @@
 #include "stack/stack_io.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <numbers>
 #include <sstream>
 #include <thread>
@@ -225,9 +227,39 @@ void write_stack(const std::string& path, const std::vector<scene::Truth>& truth
   });
 }
 
-void write_stack_reusing(const std::string& path, const std::vector<scene::Truth>& truths,
-                         const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
-                         const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce) {
+namespace {
+
+// Part i's pixels from `frame` into the open file; half conversions reuse half_buffers.
+void write_part(Imf::MultiPartOutputFile& file, std::size_t i, const Frame& frame, const std::vector<std::string>& channels,
+                int width, int height, const WriteOptions& options, std::vector<std::vector<Imath::half>>& half_buffers) {
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  Imf::FrameBuffer fb;
+  for (std::size_t k = 0; k < channels.size(); ++k) {
+    const std::string& c = channels[k];
+    const std::vector<float>& data = frame.channel(c);
+    if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
+    if (options.half && !stays_float(c)) {
+      std::vector<Imath::half>& hb = half_buffers[k];
+      hb.resize(data.size());
+      for (std::size_t j = 0; j < data.size(); ++j) hb[j] = Imath::half(std::clamp(data[j], -kHalfMax, kHalfMax));
+      fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers[k].data()), sizeof(Imath::half),
+                              sizeof(Imath::half) * static_cast<std::size_t>(width)));
+    } else {
+      // An output slice is only read; Imf::Slice takes a non-const pointer for both directions.
+      fb.insert(c, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(data.data())),
+                              sizeof(float), sizeof(float) * static_cast<std::size_t>(width)));
+    }
+  }
+  Imf::OutputPart part(file, static_cast<int>(i));
+  part.setFrameBuffer(fb);
+  part.writePixels(height);
+}
+
+// The temporary file, its parts written by write_parts(file), renamed to path when complete;
+// removed on any error, which is rethrown as a SceneError naming path.
+void write_to_temporary(const std::string& path, const std::vector<scene::Truth>& truths,
+                        const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                        const WriteOptions& options, const std::function<void(Imf::MultiPartOutputFile&)>& write_parts) {
   use_all_cores_for_exr();
   namespace fs = std::filesystem;
   const fs::path target(path);
@@ -241,32 +273,7 @@ void write_stack_reusing(const std::string& path, const std::vector<scene::Truth
     for (const scene::Truth& t : truths) headers.push_back(part_header(t, channels, width, height, header, options));
     {
       Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), static_cast<int>(headers.size()));
-      const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-      // Half conversions reuse their buffers from part to part, like the caller's frame.
-      std::vector<std::vector<Imath::half>> half_buffers(channels.size());
-      for (std::size_t i = 0; i < truths.size(); ++i) {
-        const Frame& frame = produce(i);
-        Imf::FrameBuffer fb;
-        for (std::size_t k = 0; k < channels.size(); ++k) {
-          const std::string& c = channels[k];
-          const std::vector<float>& data = frame.channel(c);
-          if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
-          if (options.half && !stays_float(c)) {
-            std::vector<Imath::half>& hb = half_buffers[k];
-            hb.resize(data.size());
-            for (std::size_t j = 0; j < data.size(); ++j) hb[j] = Imath::half(std::clamp(data[j], -kHalfMax, kHalfMax));
-            fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers[k].data()), sizeof(Imath::half),
-                                    sizeof(Imath::half) * static_cast<std::size_t>(width)));
-          } else {
-            // An output slice is only read; Imf::Slice takes a non-const pointer for both directions.
-            fb.insert(c, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(data.data())),
-                                    sizeof(float), sizeof(float) * static_cast<std::size_t>(width)));
-          }
-        }
-        Imf::OutputPart part(file, static_cast<int>(i));
-        part.setFrameBuffer(fb);
-        part.writePixels(height);
-      }
+      write_parts(file);
     }
     fs::rename(tmp, target);
   } catch (const scene::SceneError&) {
@@ -279,6 +286,47 @@ void write_stack_reusing(const std::string& path, const std::vector<scene::Truth
     fs::remove(tmp, ec);
     throw;
   }
+}
+
+}  // namespace
+
+void write_stack_reusing(const std::string& path, const std::vector<scene::Truth>& truths,
+                         const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                         const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce) {
+  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file) {
+    // Half conversions reuse their buffers from part to part, like the caller's frame.
+    std::vector<std::vector<Imath::half>> half_buffers(channels.size());
+    for (std::size_t i = 0; i < truths.size(); ++i) write_part(file, i, produce(i), channels, width, height, options, half_buffers);
+  });
+}
+
+double write_stack_overlapped(const std::string& path, const std::vector<scene::Truth>& truths,
+                            const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                            const WriteOptions& options, std::array<Frame, 2>& frames,
+                            const std::function<void(std::size_t, Frame&)>& fill) {
+  double writing_s = 0;
+  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file) {
+    std::vector<std::vector<Imath::half>> half_buffers(channels.size());
+    const std::size_t parts = truths.size();
+    if (parts == 0) return;
+    fill(0, frames[0]);
+    for (std::size_t i = 0; i < parts; ++i) {
+      // Part i + 1 renders on a second thread while part i is encoded and written here; the join
+      // (get) comes before either frame is touched again, and rethrows what fill threw.
+      std::future<void> next;
+      if (i + 1 < parts) next = std::async(std::launch::async, [&, i] { fill(i + 1, frames[(i + 1) % 2]); });
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        write_part(file, i, frames[i % 2], channels, width, height, options, half_buffers);
+        writing_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      } catch (...) {
+        if (next.valid()) next.wait();  // never leave the thread writing into a frame being unwound
+        throw;
+      }
+      if (next.valid()) next.get();
+    }
+  });
+  return writing_s;
 }
 
 Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels) {

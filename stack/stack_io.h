@@ -4,6 +4,7 @@
 // write leaves nothing behind.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -44,6 +45,17 @@ void write_stack(const std::string& path, const std::vector<scene::Truth>& truth
 void write_stack_reusing(const std::string& path, const std::vector<scene::Truth>& truths,
                          const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
                          const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce);
+
+// The same with the next part rendered while this one is encoded and written: fill(i, frame)
+// writes part i's pixels into `frame`, one of `frames` taken in turn (each reused every other
+// part; their storage stays with the caller for its next stack). fill is called in order
+// i = 0, 1, …, never twice at once, from a second thread for i > 0; it runs alongside OpenEXR's
+// encoding of part i − 1, so the render and the compressor share the cores. Returns the seconds
+// spent encoding and writing parts (on the calling thread; the rendering overlaps them).
+double write_stack_overlapped(const std::string& path, const std::vector<scene::Truth>& truths,
+                            const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                            const WriteOptions& options, std::array<Frame, 2>& frames,
+                            const std::function<void(std::size_t, Frame&)>& fill);
 
 // OpenEXR's global thread pool as the writer and the reader set it (one thread per hardware
 // thread); exposed so that a benchmark of OpenEXR alone runs with the same settings.

@@ -41,12 +41,22 @@ struct BenchFigures {
   double skypol_write_ms = 0;       // skypol's writer, per frame (headers, truth, temp file, rename)
   double skypol_write_best_ms = 0;
   double render_and_write_best_ms = 0;  // the fastest round's render + skypol write
-  double end_to_end_ms = 0;         // render + write per frame through render_scene (setup excluded)
+  double end_to_end_ms = 0;         // render_scene's wall time per frame, set-up excluded
+  // OpenEXR alone writing the last frame with zip at each level asked for (1 fastest .. 9 smallest;
+  // OpenEXR's default is 4); the scene's own compression and pixel type are not changed.
+  struct ZipLevel {
+    int level = 0;
+    double write_ms = 0;  // best of the rounds
+    double mb = 0;        // file size
+  };
+  std::vector<ZipLevel> zip_levels;
 };
 
 // Renders `frames` frames of `scene` (its first times, cycled if it has fewer) and writes them
 // into files in `scratch_dir`, which is emptied afterwards. Timings are means over the frames.
 // render_only: the write figures stay 0 (a quick look at the renderer alone).
-BenchFigures bench_render(const scene::Scene& scene, int frames, const std::string& scratch_dir, bool render_only = false);
+// zip_levels: also time OpenEXR alone writing a frame with zip at each of these levels (BenchFigures::zip_levels).
+BenchFigures bench_render(const scene::Scene& scene, int frames, const std::string& scratch_dir, bool render_only = false,
+                          const std::vector<int>& zip_levels = {});
 
 }  // namespace skypol::studies

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -58,6 +59,34 @@ inline std::optional<Normalized> normalized_within(const Intrinsics& k, const Ei
   const double r = std::hypot(mx, my);
   if (r > r_max * (1 + kEdgeTol)) return std::nullopt;
   return Normalized{mx, my, r};
+}
+
+// Lens::ray_row for a radial model whose ray(p) is direction(theta_of(r), m) inside the image
+// circle of normalized radius r_max (normalized_within): the same arithmetic in the same order, so
+// the same bits, without the per-pixel optional and virtual call. theta_of is inlined.
+template <class T>
+void radial_ray_row(const Intrinsics& k, double r_max, T theta_of, double y, double x0, std::size_t n,
+                    double* dx, double* dy, double* dz, unsigned char* valid) {
+  const double my = (y - k.cy) / k.fy;
+  const double limit = r_max * (1 + kEdgeTol);
+  const bool finite = std::isfinite(y) && std::isfinite(x0) && std::isfinite(x0 + static_cast<double>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const double mx = (x0 + static_cast<double>(i) - k.cx) / k.fx;
+    const double r = std::hypot(mx, my);
+    if (!finite || r > limit) {
+      valid[i] = 0;
+      dx[i] = 0, dy[i] = 0, dz[i] = 1;
+      continue;
+    }
+    valid[i] = 1;
+    if (!(r > 0)) {  // direction()'s axis case
+      dx[i] = 0, dy[i] = 0, dz[i] = 1;
+      continue;
+    }
+    const double theta = theta_of(r);
+    const double st = std::sin(theta);
+    dx[i] = st * mx / r, dy[i] = st * my / r, dz[i] = std::cos(theta);
+  }
 }
 
 // Throws std::invalid_argument naming the key (fx, fy, cx, cy, width, height).

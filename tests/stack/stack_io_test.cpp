@@ -2,6 +2,9 @@
 // nothing behind; a file that is not a skypol stack is refused with its name.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +13,7 @@
 
 #include "render/pipeline.h"
 #include "render/renderer.h"
+#include "scene/scene_error.h"
 #include "scene/truth.h"
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
@@ -283,5 +287,72 @@ TEST_CASE("a stack rendered after another, in that one's memory, is the file a f
   CHECK(file_bytes((dir / "b.exr").string()) == file_bytes((dir / "fresh-b.exr").string()));
   CHECK(file_bytes((dir / "a2.exr").string()) == file_bytes((dir / "fresh-a.exr").string()));
   CHECK(file_bytes((dir / "a1.exr").string()) == file_bytes((dir / "fresh-a.exr").string()));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a later stack with the same camera reuses its rays and writes the file a fresh process writes", "[stack]") {
+  // render_scene keeps the last stack's rays for a next stack with the same camera (a sweep's
+  // variants that change only the sky or the times): that stack's file must not change.
+  const fs::path dir = temp_dir();
+  const std::string first = std::string(kScene) + "\n[sky]\nmax_dolp = 0.7\n";
+  const std::string second = std::string(kScene) + "\n[sky]\nmax_dolp = 0.9\n";
+  std::thread([&] { render::render_scene(scene::parse_scene(second, "fresh.toml"), (dir / "fresh.exr").string()); }).join();
+  std::thread([&] {
+    render::render_scene(scene::parse_scene(first, "first.toml"), (dir / "first.exr").string());
+    render::render_scene(scene::parse_scene(second, "fresh.toml"), (dir / "second.exr").string());
+  }).join();
+  CHECK(file_bytes((dir / "second.exr").string()) == file_bytes((dir / "fresh.exr").string()));
+  CHECK(file_bytes((dir / "first.exr").string()) != file_bytes((dir / "fresh.exr").string()));  // the sky did change
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the overlapped writer fills parts in order, one at a time, into the bytes of the plain writer", "[stack]") {
+  const fs::path dir = temp_dir();
+  std::vector<scene::Truth> truths(5);
+  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  auto fill = [](std::size_t i, stack::Frame& f) {
+    f.width = 4, f.height = 3;
+    f.channels["mask"] = std::vector<float>(12, static_cast<float>(i) + 0.5f);
+  };
+  std::vector<std::size_t> order;
+  std::atomic<int> inside{0};
+  int most_inside = 0;
+  std::array<stack::Frame, 2> frames;
+  stack::write_stack_overlapped((dir / "overlapped.exr").string(), truths, {"mask"}, 4, 3, {}, {}, frames,
+                                [&](std::size_t i, stack::Frame& f) {
+                                  most_inside = std::max(most_inside, ++inside);
+                                  order.push_back(i);
+                                  fill(i, f);
+                                  --inside;
+                                });
+  CHECK(order == std::vector<std::size_t>{0, 1, 2, 3, 4});
+  CHECK(most_inside == 1);
+  stack::Frame one;
+  stack::write_stack_reusing((dir / "plain.exr").string(), truths, {"mask"}, 4, 3, {}, {}, [&](std::size_t i) -> const stack::Frame& {
+    fill(i, one);
+    return one;
+  });
+  CHECK(file_bytes((dir / "overlapped.exr").string()) == file_bytes((dir / "plain.exr").string()));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the overlapped writer leaves nothing behind when a part fails to render", "[stack][errors]") {
+  const fs::path dir = temp_dir();
+  const std::string path = (dir / "broken.exr").string();
+  std::vector<scene::Truth> truths(4);
+  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  std::array<stack::Frame, 2> frames;
+  try {
+    stack::write_stack_overlapped(path, truths, {"mask"}, 4, 3, {}, {}, frames, [](std::size_t i, stack::Frame& f) {
+      if (i == 2) throw std::runtime_error("renderer failed on part 2");
+      f.width = 4, f.height = 3;
+      f.channels["mask"] = std::vector<float>(12, 1.0f);
+    });
+    FAIL("no error");
+  } catch (const scene::SceneError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("broken.exr") && Catch::Contains("renderer failed on part 2"));
+  }
+  CHECK_FALSE(fs::exists(path));
+  CHECK(fs::is_empty(dir));  // no temporary either
   fs::remove_all(dir);
 }
