@@ -76,6 +76,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   stack::WriteOptions wo;
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
+  wo.zip_level = scene.output.zip_level;
 
   const auto t_total = Clock::now();
   double render_s = 0;
