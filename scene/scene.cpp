@@ -7,6 +7,8 @@
 #include <limits>
 #include <numbers>
 
+#include "scene/output_defaults.h"
+
 namespace skypol::scene {
 namespace {
 
@@ -246,6 +248,7 @@ Scene scene_from_source(const SceneSource& source) {
     scene.output = read_output(*o, stem, scene.sensor.has_value());
   } else {
     scene.output.path = "out/" + stem + ".exr";
+    scene.output.half = kDefaultHalf;
   }
   top.finish();
   return scene;

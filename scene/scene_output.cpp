@@ -4,6 +4,7 @@
 // changes Stokes values is written only when the scene says it accepts that.
 #include <algorithm>
 
+#include "scene/output_defaults.h"
 #include "scene/scene.h"
 
 namespace skypol::scene {
@@ -35,9 +36,8 @@ OutputSpec read_output(Fields& o, const std::string& stem, bool has_sensor) {
     if (ch == "raw" && !has_sensor) o.fail("channels", "'raw' is the sensor's mosaic: it needs a [sensor] section");
     stokes = stokes || (ch != "mask" && ch != "raw");  // mask and raw stay float and lossless
   }
-  const OutputSpec defaults;
-  out.half = o.choice("pixel_type", defaults.half ? "half" : "float", {"float", "half"}) == "half";
-  out.compression = o.choice("compression", defaults.compression,
+  out.half = o.choice("pixel_type", kDefaultHalf ? "half" : "float", {"float", "half"}) == "half";
+  out.compression = o.choice("compression", out.compression,
                              {"none", "zip", "zips", "piz", "rle", "pxr24", "b44", "b44a", "dwaa", "dwab"});
   if (o.has("zip_level")) {
     if (out.compression != "zip" && out.compression != "zips")
