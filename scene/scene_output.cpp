@@ -16,9 +16,9 @@ std::string lossy_compression_loss(const std::string& compression, bool half) {
   // to 24 bits and leaves half alone; DWA quantizes channels named *.R, *.G, *.B and *.Y whatever
   // their type.
   if (compression == "b44" || compression == "b44a") {
-    return half ? "AoLP errors up to 28°, DoLP up to 0.07" : "";
+    return half ? "AoLP errors up to 29°, DoLP up to 0.08" : "";
   }
-  if (compression == "dwaa" || compression == "dwab") return "AoLP errors up to 1.2°, DoLP up to 0.011";
+  if (compression == "dwaa" || compression == "dwab") return "AoLP errors up to 1.4°, DoLP up to 0.011";
   if (compression == "pxr24" && !half) return "relative errors up to 2^-16 (it rounds float to 24 bits)";
   return "";
 }

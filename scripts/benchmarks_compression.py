@@ -95,7 +95,7 @@ def report(d, fig_dir, h):
     lossy = [r for r in ideal if r["exact"] != 1]
     body = [
         f"The paper's day, {h.day_text(rows)}, at {int(r0['width'])}×{int(r0['height'])} "
-        f"(the 2448×2048 sensor binned {2448 // int(r0['width'])}×), {int(r0['headings'])} headings of the "
+        f"(the 2448×2048 sensor binned {2448 // int(r0['width'])}×), {h.headings_text(est)} of the "
         "Fig. 3 protocol, written by `stack::write_stack` with each pixel type × compression, read back "
         "by `stack::read_stack`, and compared with the floats that were written: the ideal stack the default "
         "scene writes (S0 S1 S2 DoLP AoLP mask) and the DoFP sensor's (DoLP AoLP mask, 1 ms). Sizes and "
