@@ -66,7 +66,7 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_flag("--small", a->options.small, "Tiny images and few settings (seconds; for tests)");
   cmd->add_option("--seed", a->options.seed, "calibration: seed of the random scenes (default 2)");
   cmd->add_option("--count", a->options.count, "calibration: number of scenes (default 300; --small 6)");
-  cmd->add_option("--binning", a->options.binning, "calibration: binning of the 2448×2048 sensor (default 8; --small 16)");
+  cmd->add_option("--binning", a->options.binning, "calibration, compression: binning of the 2448×2048 sensor (calibration 8, compression 4; --small 16)");
   cmd->add_option("--max-uncertainty", a->options.max_uncertainty_deg,
                   "calibration: the bound every method runs with (95 % cone, degrees; default 5; inf: none)");
   cmd->add_flag("--progress", a->options.progress, "calibration: report each scene on stderr");

@@ -7,6 +7,8 @@
 #include <limits>
 #include <numbers>
 
+#include "scene/output_defaults.h"
+
 namespace skypol::scene {
 namespace {
 
@@ -242,21 +244,11 @@ Scene scene_from_source(const SceneSource& source) {
   std::string stem = file_name;
   if (auto slash = stem.find_last_of('/'); slash != std::string::npos) stem = stem.substr(slash + 1);
   if (auto dot = stem.rfind('.'); dot != std::string::npos) stem = stem.substr(0, dot);
-  scene.output.path = "out/" + stem + ".exr";
   if (std::optional<Fields> o = top.table("output")) {
-    scene.output.path = o->string("path", scene.output.path);
-    scene.output.channels = o->strings("channels", scene.output.channels);
-    for (const std::string& ch : scene.output.channels) {
-      static const std::vector<std::string> legal{"S0", "S1", "S2", "S3", "DoLP", "AoLP", "mask", "raw"};
-      if (std::find(legal.begin(), legal.end(), ch) == legal.end()) {
-        o->fail("channels", "unknown channel '" + ch + "' (expected S0, S1, S2, S3, DoLP, AoLP, mask, raw)");
-      }
-      if (ch == "raw" && !scene.sensor) o->fail("channels", "'raw' is the sensor's mosaic: it needs a [sensor] section");
-    }
-    scene.output.half = o->choice("pixel_type", "float", {"float", "half"}) == "half";
-    scene.output.compression = o->choice("compression", "zip", {"none", "zip", "zips", "piz", "rle", "pxr24", "b44", "dwaa"});
-    scene.output.previews = o->boolean("previews", false);
-    o->finish();
+    scene.output = read_output(*o, stem, scene.sensor.has_value());
+  } else {
+    scene.output.path = "out/" + stem + ".exr";
+    scene.output.half = kDefaultHalf;
   }
   top.finish();
   return scene;

@@ -56,8 +56,10 @@ struct RenderSpec {
 struct OutputSpec {
   std::string path;                    // resolved against the current directory
   std::vector<std::string> channels{"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
-  bool half = false;                   // pixel type: float32 (default) or half
-  std::string compression = "zip";
+  bool half = false;                   // pixel type; the loader defaults to half (output_defaults.h)
+  std::string compression = "zip";     // docs/scenes.md lists them and marks the lossy ones
+  int zip_level = 0;                   // zip, zips: deflate level 1–9; 0: OpenEXR's default
+  bool allow_lossy = false;            // opt-in for a compression that changes Stokes values
   bool previews = false;               // PNG previews next to the stack (stack/preview.h)
 };
 
@@ -87,6 +89,12 @@ CameraSpec parse_camera(const std::string& toml_text, const std::string& file_na
 sky::SkySpec read_sky(Fields& sky_table);
 SensorSpec read_sensor(Fields& sensor_table, const CameraSpec& camera);
 OccluderSpec read_occluders(Fields& occluders_table);
+// The [output] section (scene_output.cpp); `stem` names the default path out/<stem>.exr. A lossy
+// compression without allow_lossy is an error at the compression key naming what it loses.
+OutputSpec read_output(Fields& output_table, const std::string& stem, bool has_sensor);
+// What `compression` on `half` or float Stokes channels loses, as measured by `skypol tradeoff
+// compression` (docs/benchmarks.md); empty when it is lossless.
+std::string lossy_compression_loss(const std::string& compression, bool half);
 
 // Built from checked specs; throws SceneError only for combinations a single key cannot catch.
 std::shared_ptr<const camera::Camera> build_camera(const CameraSpec& spec);

@@ -55,7 +55,9 @@ Imf::Compression compression_of(const std::string& name) {
   if (name == "piz") return Imf::PIZ_COMPRESSION;
   if (name == "pxr24") return Imf::PXR24_COMPRESSION;
   if (name == "b44") return Imf::B44_COMPRESSION;
+  if (name == "b44a") return Imf::B44A_COMPRESSION;
   if (name == "dwaa") return Imf::DWAA_COMPRESSION;
+  if (name == "dwab") return Imf::DWAB_COMPRESSION;
   throw std::invalid_argument("unknown compression '" + name + "'");
 }
 
@@ -70,6 +72,7 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   h.setName(sky::format_iso8601(t.time));
   h.setType(Imf::SCANLINEIMAGE);
   h.compression() = compression_of(o.compression);
+  if (o.zip_level > 0) h.zipCompressionLevel() = o.zip_level;  // read by zip and zips only
   const bool half = o.half;
   for (const std::string& c : channels) {
     h.channels().insert(c, Imf::Channel(half && !stays_float(c) ? Imf::HALF : Imf::FLOAT));

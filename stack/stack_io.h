@@ -29,7 +29,8 @@ struct StackHeader {
 
 struct WriteOptions {
   bool half = false;
-  std::string compression = "zip";  // none, zip, zips, piz, rle, pxr24, b44, dwaa
+  std::string compression = "zip";  // none, zip, zips, piz, rle, pxr24, b44, b44a, dwaa, dwab
+  int zip_level = 0;                // zip and zips: deflate level 1–9; 0: OpenEXR's default (4 in 3.1)
 };
 
 // Writes `truths.size()` parts; part i's pixels come from produce(i), called in order, so only

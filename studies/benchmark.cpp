@@ -150,6 +150,7 @@ BenchFigures bench_render(const scene::Scene& scene_in, int frames, const std::s
   stack::WriteOptions wo;
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
+  wo.zip_level = scene.output.zip_level;
   stack::StackHeader header;
   header.bands = ro.bands;
   header.camera_description = scene.camera.description;

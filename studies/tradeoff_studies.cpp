@@ -17,6 +17,10 @@ const std::vector<Study>& studies() {
        "random scenes (sites, dates, windows, tilts, lenses, sensors, clouds, skies): every method's yield, "
        "lie rate and 95 % cone coverage",
        study_calibration},
+      {"compression",
+       "pixel type x compression (zip levels too): file size, write and read time, channel errors and every "
+       "estimator's error on the stack read back",
+       study_compression},
   };
   return all;
 }

@@ -18,7 +18,7 @@ struct StudyOptions {
   // study's default), and whether to report progress on stderr.
   std::uint64_t seed = 2;
   int count = 0;
-  int binning = 0;      // calibration: binning of the 2448×2048 sensor (0: 8, --small 16)
+  int binning = 0;      // calibration, compression: binning of the 2448×2048 sensor (0: the study's default)
   // calibration: the --max-uncertainty every method is run with (95 % cone, degrees; infinity:
   // none). 5°: an answer the method itself says may be more than 5° off is declined, not counted
   // as an answer, so that a lie (valid, > 5° off) is one the method did not warn of.
@@ -44,5 +44,6 @@ void study_lens_inverse(const StudyOptions& o);   // Newton iterations → round
 void study_sky_precision(const StudyOptions& o);  // float vs double sky evaluation
 void study_throughput(const StudyOptions& o);     // Mpix/s, MB/s, s/stack and their scaling
 void study_calibration(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
+void study_compression(const StudyOptions& o);    // pixel type × compression → size, time, error
 
 }  // namespace skypol::studies::tradeoff

@@ -54,6 +54,8 @@ class RenderMatchesCli(Tmp):
     """A stack rendered into NumPy equals, bit for bit, the stack `skypol render` writes."""
 
     def check_scene(self, scene_file, overrides):
+        # Bit for bit at float precision: the file's default pixel type is half (docs/scenes.md).
+        overrides = dict(overrides, **{"output.pixel_type": '"float"'})
         out = self.path("cli.exr")
         cli("render", "-q", scene_file, *sum((["--set", f"{k}={v}"] for k, v in overrides.items()), []), "-o", out)
         scene = skypol.load_scene(scene_file, overrides=overrides)
@@ -207,7 +209,8 @@ class EstimatesMatchCli(Tmp):
 
     def test_same_north(self):
         out = self.path("cli.exr")
-        cli("render", "-q", MARSEILLE, "--set", "camera.binning=8", "--set", "camera.heading_deg=30", "-o", out)
+        cli("render", "-q", MARSEILLE, "--set", "camera.binning=8", "--set", "camera.heading_deg=30",
+            "--set", 'output.pixel_type="float"', "-o", out)  # the same bits as render_stack's floats
         methods = ["classic", "great_circle", "sun_vector"]
         theirs = json.loads(cli("estimate", out, "-m", ",".join(methods), "--json").stdout)
         theirs = {r["method"]: r for r in theirs}
