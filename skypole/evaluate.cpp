@@ -232,16 +232,33 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input) {
   if (method == "auto") return run_auto(stack, input);
   const auto t0 = std::chrono::steady_clock::now();
-  PoleEstimate e = run_bare(stack, method, input);
+  // great_circle's circles are computed once; its jackknife refits only the pole from them.
+  std::optional<GreatCirclePairs> gc;
+  GreatCircleParams gc_params;
+  gc_params.input = input;
+  PoleEstimate e;
+  if (method == "great_circle") {
+    gc = great_circle_pairs(stack, gc_params);
+    e = great_circle_pole(*gc, gc_params).estimate;
+  } else {
+    e = run_bare(stack, method, input);
+  }
   if (!e.valid) return e;
   JackknifeOptions o;
   for (const MethodCalibration& c : method_calibrations())
     if (c.method == method) {
-      o.inflation = c.inflation;
+      o.inflation = input.calibrated ? c.inflation : 1.0;
       o.floor_deg = c.floor_deg;
     }
-  jackknife_uncertainty(
-      e, stack, [&](const stack::Stack& s) { return run_bare(s, method, input); }, o);
+  if (gc) {
+    jackknife_uncertainty(
+        e, static_cast<int>(stack.frames.size()),
+        [&](const std::vector<std::uint8_t>& keep) { return great_circle_pole(*gc, gc_params, &keep).estimate; },
+        o);
+  } else {
+    jackknife_uncertainty(
+        e, stack, [&](const stack::Stack& s) { return run_bare(s, method, input); }, o);
+  }
   apply_uncertainty_bound(e, input.max_uncertainty_deg);
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return e;
