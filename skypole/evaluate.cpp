@@ -229,17 +229,28 @@ const std::vector<MethodCalibration>& method_calibrations() {
 }
 
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
-                        const InputOptions& input) {
+                        const InputOptions& input, ClassicImages* classic_images) {
   if (method == "auto") return run_auto(stack, input);
   const auto t0 = std::chrono::steady_clock::now();
   // great_circle's circles are computed once; its jackknife refits only the pole from them.
   std::optional<GreatCirclePairs> gc;
   GreatCircleParams gc_params;
   gc_params.input = input;
+  // classic's filtered frames likewise; its jackknife re-pairs the frames kept.
+  std::optional<ClassicPrepared> cl;
+  ClassicParams cl_params;
+  cl_params.input = input;
+  cl_params.keep_intermediates = classic_images != nullptr;
   PoleEstimate e;
   if (method == "great_circle") {
     gc = great_circle_pairs(stack, gc_params);
     e = great_circle_pole(*gc, gc_params).estimate;
+  } else if (method == "classic") {
+    cl = prepare_classic(stack, cl_params);
+    ClassicResult r = classic_from(*cl, cl_params);
+    if (classic_images) *classic_images = std::move(r.images);
+    cl_params.keep_intermediates = false;
+    e = r.estimate;
   } else {
     e = run_bare(stack, method, input);
   }
@@ -250,7 +261,11 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
       o.inflation = input.calibrated ? c.inflation : 1.0;
       o.floor_deg = c.floor_deg;
     }
-  if (gc) {
+  if (cl) {
+    jackknife_uncertainty(
+        e, static_cast<int>(stack.frames.size()),
+        [&](const std::vector<std::uint8_t>& keep) { return classic_from(*cl, cl_params, &keep).estimate; }, o);
+  } else if (gc) {
     jackknife_uncertainty(
         e, static_cast<int>(stack.frames.size()),
         [&](const std::vector<std::uint8_t>& keep) { return great_circle_pole(*gc, gc_params, &keep).estimate; },

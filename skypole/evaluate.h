@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "stack/frame.h"
+#include "skypole/classic.h"
 #include "skypole/estimate.h"
 
 namespace skypol::skypole {
@@ -32,8 +33,9 @@ const std::vector<std::string>& method_names();
 // smaller one independent errors would give. auto declines when no method answers, or when the
 // agreeing group is no larger than the dissenting answers (the data do not decide); the note
 // names the members, the outvoted and the declined methods with their reasons.
+// classic_images (method "classic" only): filled with classic's step images, from the same run.
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
-                        const InputOptions& input = {});
+                        const InputOptions& input = {}, ClassicImages* classic_images = nullptr);
 
 // auto's combination of answers already computed by run_method (e.g. by `-m all`), without
 // running anything again; only the methods used_by_auto() are considered.
