@@ -32,6 +32,7 @@ void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& whi
   meta.row().set("key", "seed").set("value", static_cast<int>(o.seed));
   meta.row().set("key", "count").set("value", o.count);
   meta.row().set("key", "binning").set("value", o.binning);
+  meta.row().set("key", "uncalibrated").set("value", o.uncalibrated);
   meta.row().set("key", "threads").set("value", tbb::info::default_concurrency());
   meta.row().set("key", "compiler").set("value", std::string("GCC ") + __VERSION__);
 #ifdef __OPTIMIZE__
@@ -70,6 +71,8 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_option("--max-uncertainty", a->options.max_uncertainty_deg,
                   "calibration: the bound every method runs with (95 % cone, degrees; default 5; inf: none)");
   cmd->add_flag("--progress", a->options.progress, "calibration: report each scene on stderr");
+  cmd->add_flag("--uncalibrated", a->options.uncalibrated,
+                "calibration: σ without the methods' calibration factors (to measure them)");
   cmd->callback([a] {
     std::vector<const studies::tradeoff::Study*> run;
     for (const studies::tradeoff::Study& s : studies::tradeoff::studies())

@@ -93,6 +93,10 @@ ThresholdMode parse_threshold_mode(std::string_view name) {
 std::string_view threshold_mode_name(ThresholdMode m) { return enum_name(kThresholdModeNames, m); }
 
 ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& params) {
+  return classic_from(prepare_classic(stack, params), params);
+}
+
+ClassicPrepared prepare_classic(const stack::Stack& stack, const ClassicParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "classic";
   if (params.pairs == PairMode::interval && params.interval < 1)
@@ -103,17 +107,42 @@ ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& p
                                 std::to_string(params.threshold));
   const std::size_t min_frames =
       params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
-  const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
-  const double radius =
-      params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
+  ClassicPrepared out;
+  out.sky = prepare_sky_images(stack, params.input, min_frames, method);
+  out.radius_px = params.filter_radius_px.value_or(default_filter_radius_px(out.sky.width, out.sky.height));
+  out.filtered = filter_all(out.sky, out.radius_px);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return out;
+}
+
+ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams& params,
+                           const std::vector<std::uint8_t>* keep_frame) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const char* method = "classic";
+  const SkyImages& sky = prepared.sky;
+  const double radius = prepared.radius_px;
+  // The frames kept, in order: pairs are made among them as for a stack of only those frames.
+  std::vector<int> frame;
+  for (int i = 0; i < static_cast<int>(sky.frames()); ++i)
+    if (!keep_frame || keep_frame->empty() || (*keep_frame)[static_cast<std::size_t>(i)]) frame.push_back(i);
+  const std::size_t min_frames =
+      params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
+  if (frame.size() < min_frames)
+    throw std::invalid_argument("classic: needs at least " + std::to_string(min_frames) + " frames, got " +
+                                std::to_string(frame.size()));
 
   ClassicResult result;
   ClassicImages& im = result.images;
   im.width = sky.width;
   im.height = sky.height;
-  im.pairs = make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval);
-
-  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
+  im.pairs = make_pairs(static_cast<int>(frame.size()), params.pairs, params.interval);
+  for (auto& [a, b] : im.pairs) {
+    a = frame[static_cast<std::size_t>(a)];
+    b = frame[static_cast<std::size_t>(b)];
+  }
+  std::vector<std::vector<float>> kept_filtered;  // find_suns reads the kept frames only
+  for (int i : frame) kept_filtered.push_back(prepared.filtered[static_cast<std::size_t>(i)]);
+  const std::vector<std::vector<float>>& filtered = prepared.filtered;
 
   const std::size_t n = sky.pixels();
   // Each pair on its own (in parallel), then the sum in pair order.
@@ -162,11 +191,11 @@ ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& p
       chosen = b;  // labels are assigned in first-pixel order, so ties keep the earliest blob
 
   const auto seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return prepared.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   };
   const auto keep_images = [&] {
     if (!params.keep_intermediates) return;
-    im.filtered = filtered;
+    im.filtered = kept_filtered;
     im.sum = sum;
     im.maximum.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) im.maximum[i] = chosen != 0 && label[i] == chosen;
@@ -230,7 +259,7 @@ ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& p
 
   // North or south: the sun's sense of rotation about the axis found (the pole above horizon).
   const HemisphereDecision hemi =
-      decide_hemisphere(find_suns(sky, filtered), centroid, params.input.hemisphere);
+      decide_hemisphere(find_suns(sky, kept_filtered), centroid, params.input.hemisphere);
   if (!hemi.ok) {
     result.estimate = invalid_estimate(method, hemi.why);
     result.estimate.seconds = seconds();

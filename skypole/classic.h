@@ -71,6 +71,21 @@ struct ClassicResult {
 
 // Needs at least 3 frames (2 differences; PairMode::interval: interval + 2 frames).
 // Throws std::invalid_argument for unusable input (estimate.h, "Failures").
+// The same as classic_from(prepare_classic(stack, params), params).
 ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& params = {});
+
+// The method in two parts, so that a jackknife over frames refilters nothing: step 1 (the filter,
+// with reading the sky images most of the cost) once per frame, steps 2–6 on the frames kept.
+struct ClassicPrepared {
+  SkyImages sky;
+  double radius_px = 0;
+  std::vector<std::vector<float>> filtered;  // step 1, per frame
+  double seconds = 0;
+};
+ClassicPrepared prepare_classic(const stack::Stack& stack, const ClassicParams& params);
+// Steps 2–6 on the frames `keep_frame` keeps (nullptr or empty: all), paired among themselves as
+// a stack of only those frames would be: the answer a sub-stack gives, without its re-reading.
+ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams& params,
+                           const std::vector<std::uint8_t>* keep_frame = nullptr);
 
 }  // namespace skypol::skypole

@@ -73,6 +73,9 @@ struct InputOptions {
   // The largest 95 % cone (degrees) an answer may have: a method whose stated uncertainty is
   // wider declines with the numbers (run_method). Infinity: no bound.
   double max_uncertainty_deg = std::numeric_limits<double>::infinity();
+  // false: the jackknife's σ as measured, without the method's calibration factor
+  // (method_calibrations(), evaluate.h) — what the calibration study measures the factors from.
+  bool calibrated = true;
 };
 
 struct PoleEstimate {

@@ -218,35 +218,109 @@ PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
 }  // namespace
 
 const std::vector<MethodCalibration>& method_calibrations() {
-  // inflation: the factor on the jackknife σ that makes the 95 % cone hold the truth in 95 % of
-  // the valid answers, measured by `skypol tradeoff calibration --seed 1 --count 20 --binning 16
-  // --max-uncertainty inf` (column factor_for_95; docs/benchmarks.md, section 7); the checks use
-  // seed 2. Never below 1 (invariance measured 0.21 on its 2 valid answers: too few to shrink).
-  // The large factors are the honest price of errors every frame shares (static clouds, Berry
-  // skies for the Rayleigh fit), which the jackknife cannot see: with them, those methods mostly
-  // decline under a bound instead of answering wrongly. floor_deg: no method states less.
-  // 20 scenes is a small sample: these factors are provisional.
+  // Measured by `skypol tradeoff calibration --out DIR --seed 1 --count 200 --binning 16
+  // --max-uncertainty inf --uncalibrated` (docs/benchmarks.md, section 7): per method, the
+  // smallest values for which, under a 5° bound, no valid answer was a lie and 90–98 % of the
+  // truths fell inside the stated cone; the checks use seed 2. What each gate stands for:
+  //  - classic: its maximal blob spans degrees, and its error follows the blob's RMS radius
+  //    (≈ half of it, hence the residual share 0.5: under a 5° bound classic declines at binning
+  //    16). No residual gate: blobs of 10° RMS locate the pole within 0.3° on a clear 128 px day
+  //    (evaluate_test), while at binning 16 blobs of 12–40° were 100–166° off; the residual share
+  //    states those as cones of 15–50°, which a bound declines.
+  //  - great_circle, invariance: a residual above 0.5° meant circles or sets that did not share a
+  //    point (cloud, a Berry sky for the Rayleigh law), with errors of tens of degrees.
+  //  - sun_vector: windows under 2 h, where the sun's arc is too short to fix its circle's axis;
+  //    sun_dolp: under 1 h, or a Rayleigh-fit residual above 0.1° (cloud).
+  //  - The floors (0.1–1.5°) are the errors every frame shares, which no jackknife sees.
   static const std::vector<MethodCalibration> c = {
-      {"classic", 41.0, 0.05},   {"great_circle", 11.6, 0.05},        {"invariance", 1.0, 0.05},
-      {"sun_vector", 6.0, 0.05}, {"sun_vector_ephemeris", 3.3, 0.05}, {"sun_dolp", 32.6, 0.05},
+      {"classic", 1.0, 0.5, 0.5, std::numeric_limits<double>::infinity(), 0.0},
+      {"great_circle", 4.0, 1.0, 0.0, 0.5, 0.0},
+      {"invariance", 2.0, 1.5, 0.0, 0.5, 0.0},
+      {"sun_vector", 1.5, 1.0, 0.0, std::numeric_limits<double>::infinity(), 120.0},
+      {"sun_vector_ephemeris", 4.0, 0.1, 0.0, std::numeric_limits<double>::infinity(), 0.0},
+      {"sun_dolp", 8.0, 1.5, 0.0, 0.1, 60.0},
   };
   return c;
 }
 
+namespace {
+
+// The calibration's gates (method_calibrations()): decline, with the numbers, where the study
+// found the method's error unpredictable.
+void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack, bool calibrated) {
+  if (!e.valid || !calibrated) return;
+  char buf[320];
+  if (e.residual_deg > c.max_residual_deg) {
+    std::snprintf(buf, sizeof buf,
+                  "the fit's residual %.2f° is above %.2f°, beyond which this method's error was not predictable "
+                  "in the calibration study (cloud, a sky unlike the method's model, or noise)",
+                  e.residual_deg, c.max_residual_deg);
+    e.valid = false;
+    e.why_invalid = buf;
+    return;
+  }
+  const double window_min =
+      (stack.frames.back().truth.time.unix_seconds - stack.frames.front().truth.time.unix_seconds) / 60.0;
+  if (window_min < c.min_window_min) {
+    std::snprintf(buf, sizeof buf,
+                  "the window (%.0f min) is shorter than the %.0f min this method needs: the sun's arc is too "
+                  "short to fix the pole reliably (calibration study)",
+                  window_min, c.min_window_min);
+    e.valid = false;
+    e.why_invalid = buf;
+  }
+}
+
+}  // namespace
+
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
-                        const InputOptions& input) {
+                        const InputOptions& input, ClassicImages* classic_images) {
   if (method == "auto") return run_auto(stack, input);
   const auto t0 = std::chrono::steady_clock::now();
-  PoleEstimate e = run_bare(stack, method, input);
+  // great_circle's circles are computed once; its jackknife refits only the pole from them.
+  std::optional<GreatCirclePairs> gc;
+  GreatCircleParams gc_params;
+  gc_params.input = input;
+  // classic's filtered frames likewise; its jackknife re-pairs the frames kept.
+  std::optional<ClassicPrepared> cl;
+  ClassicParams cl_params;
+  cl_params.input = input;
+  cl_params.keep_intermediates = classic_images != nullptr;
+  PoleEstimate e;
+  if (method == "great_circle") {
+    gc = great_circle_pairs(stack, gc_params);
+    e = great_circle_pole(*gc, gc_params).estimate;
+  } else if (method == "classic") {
+    cl = prepare_classic(stack, cl_params);
+    ClassicResult r = classic_from(*cl, cl_params);
+    if (classic_images) *classic_images = std::move(r.images);
+    cl_params.keep_intermediates = false;
+    e = r.estimate;
+  } else {
+    e = run_bare(stack, method, input);
+  }
   if (!e.valid) return e;
   JackknifeOptions o;
+  MethodCalibration cal;
   for (const MethodCalibration& c : method_calibrations())
-    if (c.method == method) {
-      o.inflation = c.inflation;
-      o.floor_deg = c.floor_deg;
-    }
-  jackknife_uncertainty(
-      e, stack, [&](const stack::Stack& s) { return run_bare(s, method, input); }, o);
+    if (c.method == method) cal = c;
+  apply_gates(e, cal, stack, input.calibrated);
+  if (!e.valid) return e;
+  o.inflation = input.calibrated ? cal.inflation : 1.0;
+  o.floor_deg = input.calibrated ? std::hypot(cal.floor_deg, cal.residual_share * e.residual_deg) : 0.05;
+  if (cl) {
+    jackknife_uncertainty(
+        e, static_cast<int>(stack.frames.size()),
+        [&](const std::vector<std::uint8_t>& keep) { return classic_from(*cl, cl_params, &keep).estimate; }, o);
+  } else if (gc) {
+    jackknife_uncertainty(
+        e, static_cast<int>(stack.frames.size()),
+        [&](const std::vector<std::uint8_t>& keep) { return great_circle_pole(*gc, gc_params, &keep).estimate; },
+        o);
+  } else {
+    jackknife_uncertainty(
+        e, stack, [&](const stack::Stack& s) { return run_bare(s, method, input); }, o);
+  }
   apply_uncertainty_bound(e, input.max_uncertainty_deg);
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return e;

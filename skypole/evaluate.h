@@ -6,11 +6,13 @@
 // a geographic pole, any error of an invalid row) is an empty field — never NaN.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "stack/frame.h"
+#include "skypole/classic.h"
 #include "skypole/estimate.h"
 
 namespace skypol::skypole {
@@ -32,8 +34,9 @@ const std::vector<std::string>& method_names();
 // smaller one independent errors would give. auto declines when no method answers, or when the
 // agreeing group is no larger than the dissenting answers (the data do not decide); the note
 // names the members, the outvoted and the declined methods with their reasons.
+// classic_images (method "classic" only): filled with classic's step images, from the same run.
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
-                        const InputOptions& input = {});
+                        const InputOptions& input = {}, ClassicImages* classic_images = nullptr);
 
 // auto's combination of answers already computed by run_method (e.g. by `-m all`), without
 // running anything again; only the methods used_by_auto() are considered.
@@ -41,11 +44,20 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
                                const std::vector<PoleEstimate>& estimates);
 bool used_by_auto(std::string_view method);
 
-// A method's calibration (skypole/uncertainty.h): the factor on its jackknife σ, and its floor.
+// A method's calibration (skypole/uncertainty.h), measured by the calibration study on seed 1
+// (docs/benchmarks.md, section 7). The stated σ is
+//     σ² = (inflation·σ_jackknife)² + floor_deg² + (residual_share·residual_deg)²
+// — the jackknife sees errors that differ between frames, the floor the bias every frame shares
+// (a sky unlike the method's model), the residual term a method whose own fit spreads (classic's
+// blob at low resolution). Gates: where the study found the method's error unpredictable — a fit
+// residual above max_residual_deg, a window shorter than min_window_min — it declines, saying so.
 struct MethodCalibration {
   std::string method;
   double inflation = 1.0;
   double floor_deg = 0.0;
+  double residual_share = 0.0;
+  double max_residual_deg = std::numeric_limits<double>::infinity();
+  double min_window_min = 0.0;
 };
 const std::vector<MethodCalibration>& method_calibrations();
 

@@ -278,7 +278,7 @@ DriftModel parse_drift_model(std::string_view name) {
 }
 std::string_view drift_model_name(DriftModel m) { return enum_name(kDriftModelNames, m); }
 
-GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCircleParams& params) {
+GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircleParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "great_circle";
   if (params.pairs == PairMode::interval && params.interval < 1)
@@ -286,7 +286,9 @@ GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCi
                                 std::to_string(params.interval));
   const std::size_t min_frames =
       params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
-  const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
+  GreatCirclePairs out;
+  out.sky = prepare_sky_images(stack, params.input, min_frames, method);
+  const SkyImages& sky = out.sky;
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
   const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
@@ -307,8 +309,7 @@ GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCi
   std::vector<Eigen::Vector3d> sample_dirs;
   for (std::size_t i : samples) sample_dirs.push_back(to_double(sky.ray_camera[i]));
 
-  GreatCircleResult result;
-  std::vector<CirclePair> circles;
+  std::vector<CirclePair>& circles = out.circles;
   const auto pairs = make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval);
   circles.resize(pairs.size());
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
@@ -347,9 +348,28 @@ GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCi
     cp.hypothesis_ratio = hyp.ratio;
     cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
   });
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return out;
+}
+
+GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCircleParams& params) {
+  return great_circle_pole(great_circle_pairs(stack, params), params);
+}
+
+GreatCircleResult great_circle_pole(const GreatCirclePairs& pairs, const GreatCircleParams& params,
+                                    const std::vector<std::uint8_t>* keep_frame) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const char* method = "great_circle";
+  const SkyImages& sky = pairs.sky;
+  std::vector<CirclePair> circles = pairs.circles;
+  if (keep_frame && !keep_frame->empty())
+    for (CirclePair& c : circles)
+      if (!(*keep_frame)[static_cast<std::size_t>(c.i)] || !(*keep_frame)[static_cast<std::size_t>(c.j)])
+        c.used = false;
+  GreatCircleResult result;
 
   const auto seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return pairs.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   };
   const auto fail = [&](std::string why) {
     result.estimate = invalid_estimate(method, std::move(why));

@@ -32,6 +32,7 @@
 // drift term). Uncertainty: skypole/uncertainty.h.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -86,7 +87,20 @@ struct GreatCircleResult {
 };
 
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
+// The same as great_circle_pole(great_circle_pairs(stack, params), params).
 GreatCircleResult estimate_great_circle(const stack::Stack& stack,
                                         const GreatCircleParams& params = {});
+
+// The method in two parts, so that a jackknife over frames refits only the pole (steps 4–5) from
+// the pairs' circles (steps 1–3, nearly all the cost), which do not depend on the other frames.
+struct GreatCirclePairs {
+  SkyImages sky;
+  std::vector<CirclePair> circles;
+  double seconds = 0;  // what steps 1–3 took
+};
+GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircleParams& params);
+// Steps 4–5 on the pairs both of whose frames `keep_frame` keeps (nullptr or empty: all).
+GreatCircleResult great_circle_pole(const GreatCirclePairs& pairs, const GreatCircleParams& params,
+                                    const std::vector<std::uint8_t>* keep_frame = nullptr);
 
 }  // namespace skypol::skypole

@@ -184,13 +184,11 @@ void print_estimate(const EstimateRequest& r) {
     if (r.progress) r.progress(i, methods.size());
     PoleEstimate e;
     if (!r.intermediates.empty()) {
-      ClassicParams p;
-      p.input = r.input;
-      p.keep_intermediates = true;
-      ClassicResult c = estimate_classic(stack, p);
-      write_intermediates(c.images, r.intermediates, r.path);
-      // The same uncertainty and bound as every other route (run_method).
-      e = run_method(stack, "classic", r.input);
+      // One run gives the images and the answer, with the same uncertainty and bound as every
+      // other route (run_method).
+      ClassicImages images;
+      e = run_method(stack, "classic", r.input, &images);
+      write_intermediates(images, r.intermediates, r.path);
     } else {
       try {
         const auto computed = [&](const std::string& m) {

@@ -65,8 +65,21 @@ Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other
 void jackknife_uncertainty(PoleEstimate& e, const stack::Stack& stack,
                            const std::function<PoleEstimate(const stack::Stack&)>& method,
                            const JackknifeOptions& o) {
+  const auto refit = [&](const std::vector<std::uint8_t>& keep) {
+    stack::Stack sub;
+    sub.camera = stack.camera;
+    sub.bands = stack.bands;
+    for (std::size_t i = 0; i < keep.size(); ++i)
+      if (keep[i]) sub.frames.push_back(stack.frames[i]);
+    return method(sub);
+  };
+  jackknife_uncertainty(e, static_cast<int>(stack.frames.size()), refit, o);
+}
+
+void jackknife_uncertainty(PoleEstimate& e, int n,
+                           const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
+                           const JackknifeOptions& o) {
   if (!e.valid) return;
-  const int n = static_cast<int>(stack.frames.size());
   if (n < 3) {
     e.valid = false;
     e.why_invalid = "too few frames to measure the uncertainty (" + std::to_string(n) +
@@ -76,14 +89,11 @@ void jackknife_uncertainty(PoleEstimate& e, const stack::Stack& stack,
   const int k = std::min(n, std::max(o.max_groups, 2));
   std::vector<Eigen::Vector2d> offsets;
   for (int g = 0; g < k; ++g) {
-    stack::Stack sub;
-    sub.camera = stack.camera;
-    sub.bands = stack.bands;
-    for (int i = 0; i < n; ++i)
-      if (i % k != g) sub.frames.push_back(stack.frames[static_cast<std::size_t>(i)]);
+    std::vector<std::uint8_t> keep(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) keep[static_cast<std::size_t>(i)] = i % k != g ? 1 : 0;
     PoleEstimate s;
     try {
-      s = method(sub);
+      s = refit(keep);
     } catch (const std::invalid_argument& err) {
       s.valid = false;
       s.why_invalid = err.what();

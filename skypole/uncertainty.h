@@ -23,7 +23,9 @@
 #pragma once
 
 #include <functional>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -53,6 +55,13 @@ struct JackknifeOptions {
 void jackknife_uncertainty(
     PoleEstimate& e, const stack::Stack& stack,
     const std::function<PoleEstimate(const stack::Stack&)>& method, const JackknifeOptions& options);
+
+// The same jackknife for a method that can refit from work cached on the whole stack (e.g.
+// great_circle's per-pair circles, classic's per-frame images): `refit(keep)` answers with only
+// the frames whose keep[i] is 1 (keep has `frames` entries). Same groups, covariance and declines.
+void jackknife_uncertainty(PoleEstimate& e, int frames,
+                           const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
+                           const JackknifeOptions& options);
 
 // Declines `e` when its 95 % cone is wider than `max_cone95_deg` (when that is finite), with the
 // reason in numbers.

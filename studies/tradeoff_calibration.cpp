@@ -183,7 +183,7 @@ void study_calibration(const StudyOptions& o) {
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "cloud", "sensor", "exposure_us", "gain_factor",
               "binning", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
-              "inside_cone", "lie", "estimate_s"});
+              "inside_cone", "lie", "residual_deg", "estimate_s"});
   struct Acc {
     int stacks = 0, valid = 0, lies = 0, inside = 0;
     std::vector<double> errors, ratios;  // angular error; error / cone95
@@ -191,6 +191,7 @@ void study_calibration(const StudyOptions& o) {
   std::vector<std::string> methods = skypole::method_names();
   skypole::InputOptions input;
   input.max_uncertainty_deg = o.max_uncertainty_deg;
+  input.calibrated = !o.uncalibrated;
   std::vector<Acc> acc(methods.size());
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);
@@ -250,7 +251,8 @@ void study_calibration(const StudyOptions& o) {
           .set("sigma_deg", e.sigma_deg)
           .set("cone95_deg", e.cone95_deg)
           .set("inside_cone", inside)
-          .set("lie", lie);
+          .set("lie", lie)
+          .set("residual_deg", e.residual_deg);
       if (s.bearing_error_deg) rows.set("bearing_error_deg", std::abs(*s.bearing_error_deg));
     }
     if (o.progress) std::fprintf(stderr, "calibration %d/%d\n", k + 1, count);

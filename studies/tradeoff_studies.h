@@ -24,6 +24,8 @@ struct StudyOptions {
   // as an answer, so that a lie (valid, > 5° off) is one the method did not warn of.
   double max_uncertainty_deg = 5.0;
   bool progress = false;
+  // calibration: state the methods' σ without their calibration factors (to measure them).
+  bool uncalibrated = false;
 };
 
 struct Study {

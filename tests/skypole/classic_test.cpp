@@ -209,3 +209,34 @@ TEST_CASE("interval pairing takes frame i with frame i + interval, and classic d
     CHECK(biggest > 1.3 * consecutive);
   }
 }
+
+TEST_CASE("classic from cached filtered frames, some left out, answers as a stack of only those frames",
+          "[skypole][classic][jackknife]") {
+  // What the jackknife relies on (uncertainty.h): refitting from prepare_classic's cache gives the
+  // answer a re-read sub-stack gives, pairs re-made among the frames kept.
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
+  const skypole::ClassicParams p;
+  const skypole::ClassicPrepared prepared = skypole::prepare_classic(stack, p);
+  std::vector<std::uint8_t> keep(stack.frames.size(), 1);
+  stack::Stack sub;
+  sub.camera = stack.camera;
+  sub.bands = stack.bands;
+  for (std::size_t i = 0; i < stack.frames.size(); ++i) {
+    keep[i] = i % 3 != 1;
+    if (keep[i]) sub.frames.push_back(stack.frames[i]);
+  }
+  const skypole::PoleEstimate cached = skypole::classic_from(prepared, p, &keep).estimate;
+  const skypole::PoleEstimate fresh = skypole::estimate_classic(sub, p).estimate;
+  REQUIRE(cached.valid);
+  REQUIRE(fresh.valid);
+  CHECK(cached.is_north == fresh.is_north);
+  CHECK(cached.pole_camera.dot(fresh.pole_camera) == Approx(1.0).margin(1e-12));
+  CHECK(cached.residual_deg == Approx(fresh.residual_deg).margin(1e-9));
+  // Leaving out frames changes the pairs, and so (a little) the answer: the cache is not ignored.
+  const skypole::PoleEstimate all = skypole::classic_from(prepared, p).estimate;
+  CHECK(all.pole_camera.dot(cached.pole_camera) < 1.0);
+  // Too few frames kept is unusable input, as for a short stack.
+  std::vector<std::uint8_t> two(stack.frames.size(), 0);
+  two[0] = two[5] = 1;
+  CHECK_THROWS_AS(skypole::classic_from(prepared, p, &two), std::invalid_argument);
+}

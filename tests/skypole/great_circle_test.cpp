@@ -151,3 +151,29 @@ TEST_CASE("great_circle interval pairs are frames i and i + interval, by index a
     }
   }
 }
+
+TEST_CASE("great circles refit from cached pairs, some frames left out, answer as a stack of only those frames",
+          "[skypole][great_circle][jackknife]") {
+  // What the jackknife relies on (uncertainty.h): with all pairs, the pairs of a sub-stack are the
+  // cached pairs both of whose frames are kept, so the refit must equal the re-run.
+  const stack::Stack stack = testing::make_stack(paper_spec(200));
+  const skypole::GreatCircleParams p;
+  const skypole::GreatCirclePairs pairs = skypole::great_circle_pairs(stack, p);
+  std::vector<std::uint8_t> keep(stack.frames.size(), 1);
+  stack::Stack sub;
+  sub.camera = stack.camera;
+  sub.bands = stack.bands;
+  for (std::size_t i = 0; i < stack.frames.size(); ++i) {
+    keep[i] = i % 4 != 2;
+    if (keep[i]) sub.frames.push_back(stack.frames[i]);
+  }
+  const skypole::PoleEstimate cached = skypole::great_circle_pole(pairs, p, &keep).estimate;
+  const skypole::PoleEstimate fresh = skypole::estimate_great_circle(sub, p).estimate;
+  REQUIRE(cached.valid);
+  REQUIRE(fresh.valid);
+  CHECK(cached.is_north == fresh.is_north);
+  CHECK(std::acos(std::min(1.0, cached.pole_camera.dot(fresh.pole_camera))) < 1e-6);
+  CHECK(cached.residual_deg == Approx(fresh.residual_deg).margin(1e-6));
+  const skypole::PoleEstimate all = skypole::great_circle_pole(pairs, p).estimate;
+  CHECK(all.pole_camera.dot(cached.pole_camera) < 1.0);  // the left-out pairs did count
+}
