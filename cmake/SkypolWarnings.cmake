@@ -13,13 +13,20 @@ if(SKYPOL_WERROR)
   target_compile_options(skypol_warnings INTERFACE -Werror)
 endif()
 
+# The source tree's path reaches the tests through a generated header, never a -D flag: ccache's
+# base_dir rewrites an absolute path in a -D flag relative to the build directory, so a checkout
+# elsewhere (a CI clone, a git worktree) was served objects that named another checkout's scenes.
+# The header's contents (the path itself) are part of ccache's hash.
+file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/generated/skypol_source_dir.h
+     CONTENT "#pragma once\n#define SKYPOL_SOURCE_DIR \"@PROJECT_SOURCE_DIR@\"\n" @ONLY)
+
 # skypol_add_test(NAME module/foo_test SOURCES ... LIBS ...): one Catch2 executable per module test.
 function(skypol_add_test)
   cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
   string(REPLACE "/" "_" _target "${T_NAME}")
   add_executable(${_target} ${T_SOURCES})
   target_link_libraries(${_target} PRIVATE skypol_catch_main ${T_LIBS} skypol_warnings)
-  target_compile_definitions(${_target} PRIVATE SKYPOL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  target_compile_options(${_target} PRIVATE -include ${PROJECT_BINARY_DIR}/generated/skypol_source_dir.h)
   add_test(NAME ${T_NAME} COMMAND ${_target})
   set_tests_properties(${T_NAME} PROPERTIES ENVIRONMENT "SKYPOL_BIN=$<TARGET_FILE:skypol>")
 endfunction()
