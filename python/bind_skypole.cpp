@@ -28,7 +28,10 @@ py::dict estimate(const PyStack& s, const std::string& method, const std::string
   {
     py::gil_scoped_release release;
     e = skypole::run_method(s.stack, method, in);
-    if (e.valid && !s.stack.frames.empty()) score = skypole::score(e, s.stack.frames.front().truth);
+    // A capture (skypol import) has no truth to score against: its frames' heading is a placeholder.
+    if (e.valid && s.stack.truth_known && !s.stack.frames.empty()) {
+      score = skypole::score(e, s.stack.frames.front().truth);
+    }
   }
   py::dict d = estimate_to_dict(e);
   d["score"] = score ? py::object(score_to_dict(*score)) : py::object(py::none());

@@ -120,6 +120,8 @@ void bind_stack(py::module_& m) {
       .def_property_readonly("camera_description", [](const PyStack& s) { return s.stack.camera_description; })
       .def_property_readonly("scene_text", [](const PyStack& s) { return s.stack.scene_text; })
       .def_readwrite("sky_model", &PyStack::sky_model)
+      .def_property_readonly("truth_known", [](const PyStack& s) { return s.stack.truth_known; })
+      .def_property_readonly("site_known", [](const PyStack& s) { return s.stack.site_known; })
       .def_property_readonly("camera",
                              [](const PyStack& s) { return std::const_pointer_cast<camera::Camera>(s.stack.camera); })
       .def("size", [](const PyStack& s, py::ssize_t i) {

@@ -262,6 +262,9 @@ class Stack:
     camera = property(lambda self: Camera(self._h.camera))
     camera_description = property(lambda self: self._h.camera_description)
     scene_text = property(lambda self: self._h.scene_text)
+    # False for a capture (skypol import): nothing to score against, estimates carry score None.
+    truth_known = property(lambda self: self._h.truth_known)
+    site_known = property(lambda self: self._h.site_known)
     channel_names = property(lambda self: self._h.channel_names(0) if len(self) else [])
     truths = property(lambda self: [f.truth for f in self])
     times = property(lambda self: np.array([f.truth["unix_seconds"] for f in self], dtype=np.float64))

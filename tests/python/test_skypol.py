@@ -202,6 +202,35 @@ class ErrorsWithLocation(Tmp):
             skypol.estimate(skypol.render_stack(scene), "clasic")
 
 
+class CaptureHasNoScore(Tmp):
+    """An imported capture (skypol import) says its truth is unknown, and Python scores nothing."""
+
+    def test_capture_truth_unknown(self):
+        rendered = self.path("rendered.exr")
+        cli("render", "-q", DOFP, "--set", "camera.binning=16", "--set", 'time.day_end="08:00"',
+            "--set", 'output.channels=["DoLP","AoLP","mask","raw"]', "-o", rendered)
+        raw = self.path("raw")
+        cli("export", rendered, "-c", "raw", "-f", "npy", "-o", raw)
+        capture = self.path("capture.toml")
+        with open(capture, "w") as f:
+            f.write('[capture]\nframes = ["raw/rendered_*.npy"]\ntimes = "name"\n'
+                    'time_format = "rendered_*_%Y%m%dT%H%M%SZ.npy"\n'
+                    '[camera]\nlens_preset = "fujinon_fe185c057ha1"\nsensor_preset = "lucid_phx050s_qc"\n'
+                    'binning = 16\n[sensor]\npreset = "lucid_phx050s_qc"\n')
+        out = self.path("capture.exr")
+        cli("import", capture, "-o", out)
+        cap, ren = skypol.read_stack(out), skypol.read_stack(rendered)
+        self.assertFalse(cap.truth_known)
+        self.assertFalse(cap.site_known)
+        self.assertTrue(ren.truth_known)
+        e = skypol.estimate(cap, "great_circle")
+        self.assertIsNone(e.score)
+        r = skypol.estimate(ren, "great_circle")
+        if r.valid:
+            self.assertIsNotNone(r.score)
+            self.assertEqual(e.heading_deg, r.heading_deg)
+
+
 class EstimatesMatchCli(Tmp):
     """A stack rendered in Python and one rendered by the CLI estimate the same north."""
 
