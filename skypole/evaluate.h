@@ -50,7 +50,8 @@ bool used_by_auto(std::string_view method);
 // — the jackknife sees errors that differ between frames, the floor the bias every frame shares
 // (a sky unlike the method's model), the residual term a method whose own fit spreads (classic's
 // blob at low resolution). Gates: where the study found the method's error unpredictable — a fit
-// residual above max_residual_deg, a window shorter than min_window_min — it declines, saying so.
+// residual above max_residual_deg, a window shorter than min_window_min, a sky more than
+// max_unpolarized_share unpolarized (cloud; skypole/cloud_share.h) — it declines, saying so.
 struct MethodCalibration {
   std::string method;
   double inflation = 1.0;
@@ -58,6 +59,7 @@ struct MethodCalibration {
   double residual_share = 0.0;
   double max_residual_deg = std::numeric_limits<double>::infinity();
   double min_window_min = 0.0;
+  double max_unpolarized_share = std::numeric_limits<double>::infinity();
 };
 const std::vector<MethodCalibration>& method_calibrations();
 

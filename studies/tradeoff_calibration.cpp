@@ -26,7 +26,9 @@
 #include "scene/truth.h"
 #include "sky/sky_spec.h"
 #include "sky/sun.h"
+#include "skypole/cloud_share.h"
 #include "skypole/estimate.h"
+#include "skypole/sky_images.h"
 #include "skypole/evaluate.h"
 #include "studies/tradeoff_setup.h"
 #include "studies/tradeoff_studies.h"
@@ -183,7 +185,7 @@ void study_calibration(const StudyOptions& o) {
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "cloud", "sensor", "exposure_us", "gain_factor",
               "binning", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
-              "inside_cone", "lie", "residual_deg", "estimate_s"});
+              "inside_cone", "lie", "residual_deg", "unpolarized_share", "estimate_s"});
   struct Acc {
     int stacks = 0, valid = 0, lies = 0, inside = 0;
     std::vector<double> errors, ratios;  // angular error; error / cone95
@@ -196,6 +198,10 @@ void study_calibration(const StudyOptions& o) {
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);
     const stack::Stack stack = render_draw(d, binning);
+    // The cloud gate's measure (skypole/cloud_share.h), written for every row so that its
+    // threshold can be read off this table.
+    const double unpolarized =
+        skypole::unpolarized_share(skypole::prepare_sky_images(stack, input, 1, "calibration"));
     std::vector<skypole::PoleEstimate> done;
     for (std::size_t m = 0; m < methods.size(); ++m) {
       skypole::PoleEstimate e;
@@ -227,6 +233,7 @@ void study_calibration(const StudyOptions& o) {
           .set("exposure_us", d.exposure_us)
           .set("gain_factor", d.gain_factor)
           .set("binning", binning)
+          .set("unpolarized_share", unpolarized)
           .set("method", methods[m])
           .set("valid", e.valid)
           .set("estimate_s", e.seconds);

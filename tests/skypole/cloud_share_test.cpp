@@ -1,0 +1,73 @@
+// The cloud gate's measure (skypole/cloud_share.h) and the gate itself (run_method): a clear day
+// scores ≈ 0, a sky with an unpolarized half scores that half, and a method whose calibration has
+// a cloud threshold declines such a sky, naming cloud.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "skypole/cloud_share.h"
+#include "skypole/evaluate.h"
+#include "skypole/sky_images.h"
+#include "synthetic_stack.h"
+
+using namespace skypol;
+
+namespace {
+
+// Thick cloud over the half of the image with camera x > 0, in every frame: the DoLP there drops
+// to a tenth (sky/clouds.h: a thick cloud is unpolarized); the AoLP stays.
+stack::Stack with_cloud(stack::Stack stack, double& covered_share) {
+  const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
+  std::size_t covered = 0;
+  for (std::size_t i = 0; i < sky.pixels(); ++i) covered += sky.valid[i] && sky.ray_camera[i].x() > 0 ? 1 : 0;
+  covered_share = static_cast<double>(covered) / static_cast<double>(sky.valid_count);
+  for (stack::Frame& f : stack.frames) {
+    std::vector<float>& dolp = f.channel("DoLP." + sky.band);
+    for (std::size_t i = 0; i < sky.pixels(); ++i)
+      if (sky.valid[i] && sky.ray_camera[i].x() > 0) dolp[i] *= 0.1f;
+  }
+  return stack;
+}
+
+}  // namespace
+
+TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, and the gate declines it",
+          "[skypole][cloud]") {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.size = 128;
+  spec.heading_deg = 30;
+  const stack::Stack clear = testing::make_stack(spec);
+  const double clear_share = skypole::unpolarized_share(skypole::prepare_sky_images(clear, {}, 1, "test"));
+  INFO("clear " << clear_share);
+  CHECK(clear_share < 0.02);
+
+  double covered = 0;
+  const stack::Stack cloudy = with_cloud(clear, covered);
+  REQUIRE(covered == Approx(0.5).margin(0.05));
+  // Pixels near the sun and antisun are left out of the count, so the share of the rest that is
+  // covered is not exactly `covered`; within 0.1 of it.
+  const double share = skypole::unpolarized_share(skypole::prepare_sky_images(cloudy, {}, 1, "test"));
+  INFO("cloudy " << share << " covered " << covered);
+  CHECK(share == Approx(covered).margin(0.1));
+
+  // Every method with a cloud threshold that still finds a pole in the cloudy stack when its
+  // gates are off must, with them on, decline it for the cloud (sun_dolp's own fit already fails).
+  skypole::InputOptions ungated;
+  ungated.calibrated = false;
+  ungated.max_uncertainty_deg = std::numeric_limits<double>::infinity();
+  int gated = 0;
+  for (const auto& c : skypole::method_calibrations()) {
+    if (!std::isfinite(c.max_unpolarized_share)) continue;
+    INFO(c.method);
+    const skypole::PoleEstimate ok = skypole::run_method(clear, c.method);
+    CHECK(ok.why_invalid.find("cloud") == std::string::npos);
+    if (!skypole::run_method(cloudy, c.method, ungated).valid) continue;
+    ++gated;
+    const skypole::PoleEstimate e = skypole::run_method(cloudy, c.method);
+    CHECK_FALSE(e.valid);
+    CHECK_THAT(e.why_invalid, Catch::StartsWith("cloud: 54 % of the sky") && Catch::Contains("unpolarized"));
+  }
+  CHECK(gated >= 3);  // great_circle, invariance, sun_vector, sun_vector_ephemeris answer it ungated
+}
