@@ -155,6 +155,19 @@ Known known_of(const Imf::Header& h) {
   return k;
 }
 
+// The site and the sun a part's header records (a capture has them only when its site was given).
+void read_site_and_sun(const Imf::Header& h, const std::string& path, int part, scene::Truth& t) {
+  t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
+  t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
+  t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
+  t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDeg;
+  t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDeg;
+  t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDeg;
+  t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDeg;
+  const Imath::V3d s = need<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", path, part).value();
+  t.sun.direction = Eigen::Vector3d(s.x, s.y, s.z);
+}
+
 scene::Truth read_truth(const Imf::Header& h, const std::string& path, int part) {
   scene::Truth t;
   t.time = sky::Instant{need<Imf::DoubleAttribute>(h, "skypol:unixTime", path, part).value()};
@@ -165,29 +178,13 @@ scene::Truth read_truth(const Imf::Header& h, const std::string& path, int part)
     t.roll_deg = need<Imf::DoubleAttribute>(h, "skypol:rollDeg", path, part).value();
     t.world_from_camera = camera::world_from_heading_tilt_roll(0.0, t.tilt_deg, t.roll_deg);
     if (k.site) {
-      t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
-      t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
-      t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
-      t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDeg;
-      t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDeg;
-      t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDeg;
-      t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDeg;
-      const Imath::V3d s = need<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", path, part).value();
-      t.sun.direction = Eigen::Vector3d(s.x, s.y, s.z);
+      read_site_and_sun(h, path, part, t);
       t.pole_enu = scene::visible_pole(t.site.latitude_deg);
       t.pole_is_north = t.site.latitude_deg >= 0;
     }
     return t;
   }
-  t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
-  t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
-  t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
-  t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDeg;
-  t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDeg;
-  t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDeg;
-  t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDeg;
-  const Imath::V3d s = need<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", path, part).value();
-  t.sun.direction = Eigen::Vector3d(s.x, s.y, s.z);
+  read_site_and_sun(h, path, part, t);
   const Imath::M33d m = need<Imf::M33dAttribute>(h, "skypol:worldFromCamera", path, part).value();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) t.world_from_camera(r, c) = m[r][c];

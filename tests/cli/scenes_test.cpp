@@ -9,6 +9,7 @@
 #include <map>
 
 #include "cli/cli_harness.h"
+#include "csv_fields.h"
 
 using skypol::test::Result;
 using skypol::test::run;
@@ -45,26 +46,6 @@ const std::map<std::string, Expect> kExpect{
     {"mountain-horizon", {0.1, false, 15.0}},
 };
 
-// One CSV line into fields (RFC 4180 quoting: "a, b" is one field, "" inside quotes is ").
-std::vector<std::string> csv_fields(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-      out.back() += '"';
-      ++i;
-    } else if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      out.emplace_back();
-    } else {
-      out.back() += c;
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("every shipped scene renders and estimates at 1/16 resolution", "[cli][scenes]") {
@@ -97,7 +78,7 @@ TEST_CASE("every shipped scene renders and estimates at 1/16 resolution", "[cli]
   std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> header = csv_fields(line);
+  const std::vector<std::string> header = skypol::test::csv_fields(line);
   auto column = [&header](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
     REQUIRE(it != header.end());
@@ -110,7 +91,7 @@ TEST_CASE("every shipped scene renders and estimates at 1/16 resolution", "[cli]
     INFO(line);
     CHECK(line.find("nan") == std::string::npos);
     CHECK(line.find("inf") == std::string::npos);
-    const std::vector<std::string> f = csv_fields(line);
+    const std::vector<std::string> f = skypol::test::csv_fields(line);
     REQUIRE(f.size() == header.size());
     const std::string name = fs::path(f[c_dataset]).stem().string();
     const auto it = kExpect.find(name);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "studies/tradeoff_studies.h"
+#include "csv_fields.h"
 
 namespace fs = std::filesystem;
 
@@ -22,35 +23,15 @@ namespace {
 
 using Row = std::map<std::string, std::string>;
 
-// The tables' CSV (studies/tradeoff_table.h): RFC 4180 quoting, one header line.
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-      out.back() += '"';
-      ++i;
-    } else if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      out.emplace_back();
-    } else {
-      out.back() += c;
-    }
-  }
-  return out;
-}
-
 std::vector<Row> read_csv(const fs::path& p) {
   std::ifstream in(p);
   REQUIRE(in);
   std::string line;
   std::getline(in, line);
-  const std::vector<std::string> head = split_csv_line(line);
+  const std::vector<std::string> head = skypol::test::csv_fields(line);
   std::vector<Row> rows;
   while (std::getline(in, line)) {
-    const std::vector<std::string> cells = split_csv_line(line);
+    const std::vector<std::string> cells = skypol::test::csv_fields(line);
     REQUIRE(cells.size() == head.size());
     Row r;
     for (std::size_t i = 0; i < head.size(); ++i) r[head[i]] = cells[i];
