@@ -14,6 +14,7 @@
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
 #include "scene/scene_error.h"
+#include "scene/scene_source.h"
 #include "stack/stack_io.h"
 #include "scene/truth.h"
 
@@ -53,7 +54,9 @@ void refuse_blind_camera(const scene::Scene& scene, const camera::Camera& cam) {
   const camera::LensSpec& l = scene.camera.lens;
   const camera::Intrinsics& k = cam.lens().intrinsics();
   char buf[320];
+  const char* key = "camera";
   if (any_ray && seen == 0) {
+    key = "camera.tilt_deg";
     std::snprintf(buf, sizeof buf, "every pixel looks below the horizon: check camera.tilt_deg (%g; 0 looks at the "
                   "zenith, 90 at the horizon)", scene.camera.tilt_deg);
   } else {
@@ -63,15 +66,20 @@ void refuse_blind_camera(const scene::Scene& scene, const camera::Camera& cam) {
     char* rest = buf + n;
     const std::size_t room = sizeof buf - static_cast<std::size_t>(n);
     if (l.focal_mm) {
+      key = "camera.focal_mm";
       std::snprintf(rest, room, "check camera.focal_mm = %g (millimetres, not metres) and camera.pitch_um = %g "
                     "(micrometres)", *l.focal_mm, l.pitch_um.value_or(0));
     } else if (l.fx) {
+      key = "camera.fx";
       std::snprintf(rest, room, "check camera.fx = %g (pixels) and camera.cx, camera.cy", *l.fx);
     } else {
       std::snprintf(rest, room, "check the camera's scale and principal point (camera.cx, camera.cy)");
     }
   }
-  throw scene::SceneError(scene::FileLoc{scene.file, 0, 0},
+  // At the key's line in the scene file when the file writes it; else the file's first line (the
+  // value came from a preset, a default or --set).
+  const scene::FileLoc where = scene::locate_key(scene.file, key).value_or(scene::FileLoc{scene.file, 1, 1});
+  throw scene::SceneError(where,
                           (seen == 0 ? std::string("no pixel of the ")
                                      : "only " + std::to_string(static_cast<long>(seen)) + " pixel(s) of the ") +
                               std::to_string(w) + "x" + std::to_string(h) + " image " + (seen == 0 ? "sees" : "see") +

@@ -286,4 +286,17 @@ SceneSource load_scene_source(const std::string& path, const std::vector<Overrid
   return assemble(read_text(path, FileLoc{path, 0, 0}, "cannot open scene file"), path, overrides);
 }
 
+std::optional<FileLoc> locate_key(const std::string& path, std::string_view dotted_key) {
+  try {
+    const SceneSource source = load_scene_source(path);
+    const toml::node* n = source.root.at_path(dotted_key).node();
+    if (!n || n->source().begin.line == 0) return std::nullopt;
+    const toml::source_region& src = n->source();
+    return FileLoc{src.path && !src.path->empty() ? *src.path : path, static_cast<int>(src.begin.line),
+                   static_cast<int>(src.begin.column)};
+  } catch (const SceneError&) {
+    return std::nullopt;
+  }
+}
+
 }  // namespace skypol::scene

@@ -9,10 +9,14 @@
 // tables) is replaced whole. The including file comes last, then the overrides, in order.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <toml++/toml.h>
+
+#include "scene/scene_error.h"
 
 namespace skypol::scene {
 
@@ -44,6 +48,11 @@ SceneSource load_scene_source(const std::string& path, const std::vector<Overrid
 // The same for text in memory; includes resolve against the folder of `file_name`.
 SceneSource parse_scene_source(const std::string& text, const std::string& file_name,
                                const std::vector<Override>& overrides = {});
+
+// Where the scene file `path` (includes followed) writes the dotted key ("camera.focal_mm"), for
+// errors found after loading (a render that sees no sky). nullopt when the file cannot be read or
+// does not write the key (a preset's or the default value).
+std::optional<FileLoc> locate_key(const std::string& path, std::string_view dotted_key);
 
 // TOML text → table, with syntax errors as SceneError at the file, line and column.
 toml::table parse_toml(const std::string& text, const std::string& file_name);

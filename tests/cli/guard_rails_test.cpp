@@ -56,6 +56,7 @@ TEST_CASE("a camera whose pixels see no sky is refused, naming the likely key", 
     CHECK(r.code == 2);
     CHECK_THAT(r.out, Catch::Contains("only 4 pixel(s) of the 2448x2048 image see the sky"));
     CHECK_THAT(r.out, Catch::Contains("camera.focal_mm = 0.0018"));
+    CHECK_THAT(r.out, Catch::Contains("preset.toml:13:"));  // at the line that writes focal_mm
   }
   SECTION("a camera facing the ground") {
     const Result r = run("render -q " + scene + " --set camera.tilt_deg=180 --set camera.fov_deg=120 -o " + out);
