@@ -62,17 +62,23 @@ Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other
   return {v.dot(e_az), v.dot(e_alt)};
 }
 
+stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8_t>& keep) {
+  stack::Stack sub;
+  sub.camera = stack.camera;
+  sub.bands = stack.bands;
+  sub.camera_description = stack.camera_description;
+  sub.scene_text = stack.scene_text;
+  sub.truth_known = stack.truth_known;
+  sub.site_known = stack.site_known;
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    if (keep[i]) sub.frames.push_back(stack.frames[i]);
+  return sub;
+}
+
 void jackknife_uncertainty(PoleEstimate& e, const stack::Stack& stack,
                            const std::function<PoleEstimate(const stack::Stack&)>& method,
                            const JackknifeOptions& o) {
-  const auto refit = [&](const std::vector<std::uint8_t>& keep) {
-    stack::Stack sub;
-    sub.camera = stack.camera;
-    sub.bands = stack.bands;
-    for (std::size_t i = 0; i < keep.size(); ++i)
-      if (keep[i]) sub.frames.push_back(stack.frames[i]);
-    return method(sub);
-  };
+  const auto refit = [&](const std::vector<std::uint8_t>& keep) { return method(frames_kept(stack, keep)); };
   jackknife_uncertainty(e, static_cast<int>(stack.frames.size()), refit, o);
 }
 

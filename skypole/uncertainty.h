@@ -48,6 +48,10 @@ struct JackknifeOptions {
   double floor_deg = 0.0;      // σ never below this (e.g. the pixel's angular size)
 };
 
+// The stack with only the frames whose keep[i] is 1 (keep has one entry per frame): what a
+// jackknife's sub-run sees, and what a refit from cached work must agree with.
+stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8_t>& keep);
+
 // Runs `method` on the stack with one frame group left out at a time and sets `e`'s uncertainty
 // (set_uncertainty) or, if a sub-run fails or finds the other end of the axis, declines `e` with
 // the reason. `e` must be the method's valid answer on the whole stack. Stacks of fewer than 3

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "skypole/classic.h"
+#include "skypole/uncertainty.h"
 #include "synthetic_stack.h"
 
 using namespace skypol;
@@ -218,13 +219,8 @@ TEST_CASE("classic from cached filtered frames, some left out, answers as a stac
   const skypole::ClassicParams p;
   const skypole::ClassicPrepared prepared = skypole::prepare_classic(stack, p);
   std::vector<std::uint8_t> keep(stack.frames.size(), 1);
-  stack::Stack sub;
-  sub.camera = stack.camera;
-  sub.bands = stack.bands;
-  for (std::size_t i = 0; i < stack.frames.size(); ++i) {
-    keep[i] = i % 3 != 1;
-    if (keep[i]) sub.frames.push_back(stack.frames[i]);
-  }
+  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = i % 3 != 1;
+  const stack::Stack sub = skypole::frames_kept(stack, keep);
   const skypole::PoleEstimate cached = skypole::classic_from(prepared, p, &keep).estimate;
   const skypole::PoleEstimate fresh = skypole::estimate_classic(sub, p).estimate;
   REQUIRE(cached.valid);

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "skypole/great_circle.h"
+#include "skypole/uncertainty.h"
 #include "synthetic_stack.h"
 
 using namespace skypol;
@@ -160,13 +161,8 @@ TEST_CASE("great circles refit from cached pairs, some frames left out, answer a
   const skypole::GreatCircleParams p;
   const skypole::GreatCirclePairs pairs = skypole::great_circle_pairs(stack, p);
   std::vector<std::uint8_t> keep(stack.frames.size(), 1);
-  stack::Stack sub;
-  sub.camera = stack.camera;
-  sub.bands = stack.bands;
-  for (std::size_t i = 0; i < stack.frames.size(); ++i) {
-    keep[i] = i % 4 != 2;
-    if (keep[i]) sub.frames.push_back(stack.frames[i]);
-  }
+  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = i % 4 != 2;
+  const stack::Stack sub = skypole::frames_kept(stack, keep);
   const skypole::PoleEstimate cached = skypole::great_circle_pole(pairs, p, &keep).estimate;
   const skypole::PoleEstimate fresh = skypole::estimate_great_circle(sub, p).estimate;
   REQUIRE(cached.valid);
