@@ -1,6 +1,6 @@
-// The [output] defaults the scene loader applies (docs/scenes.md), chosen by `skypol tradeoff
-// compression` (docs/benchmarks.md, "Recommended defaults"): half, zip at OpenEXR's level 4. Every
-// Scene comes from the loader, which sets them whether or not the scene has an [output] section.
+// The default pixel type of every stack skypol writes (docs/scenes.md, [output]), chosen by
+// `skypol tradeoff compression` (docs/benchmarks.md, "Recommended defaults"): half, zip at
+// OpenEXR's level 4. scene::OutputSpec and stack::WriteOptions both start from it.
 #pragma once
 
 namespace skypol::scene {

@@ -248,7 +248,6 @@ Scene scene_from_source(const SceneSource& source) {
     scene.output = read_output(*o, stem, scene.sensor.has_value());
   } else {
     scene.output.path = "out/" + stem + ".exr";
-    scene.output.half = kDefaultHalf;
   }
   top.finish();
   return scene;

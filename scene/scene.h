@@ -19,6 +19,7 @@
 #include "camera/dofp_sensor.h"
 #include "camera/lens_factory.h"
 #include "scene/occluder_spec.h"
+#include "scene/output_defaults.h"
 #include "scene/scene_source.h"
 #include "scene/toml_fields.h"
 #include "sky/sky_model.h"
@@ -56,7 +57,7 @@ struct RenderSpec {
 struct OutputSpec {
   std::string path;                    // resolved against the current directory
   std::vector<std::string> channels{"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
-  bool half = false;                   // pixel type; the loader defaults to half (output_defaults.h)
+  bool half = kDefaultHalf;            // pixel type (output_defaults.h)
   std::string compression = "zip";     // docs/scenes.md lists them and marks the lossy ones
   int zip_level = 0;                   // zip, zips: deflate level 1–9; 0: OpenEXR's default
   bool allow_lossy = false;            // opt-in for a compression that changes Stokes values

@@ -10,7 +10,6 @@
 
 #include "camera/dofp_sensor.h"
 #include "camera/orientation.h"
-#include "scene/output_defaults.h"
 #include "scene/scene.h"
 #include "scene/scene_error.h"
 #include "scene/toml_fields.h"
@@ -269,11 +268,9 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
   header.sky_model = "capture";
   header.truth_known = false;
   header.site_known = site.has_value();
-  // The renders' default pixel type and compression (scene/output_defaults.h), so that an imported
-  // stack and a rendered one of the same raw frames hold the same values.
-  WriteOptions write_options;
-  write_options.half = scene::kDefaultHalf;
-  write_stack(out_path, truths, channels, w, h, header, write_options, [&](std::size_t i) {
+  // WriteOptions' defaults are the renders', so an imported stack and a rendered one of the same raw
+  // frames hold the same values.
+  write_stack(out_path, truths, channels, w, h, header, WriteOptions{}, [&](std::size_t i) {
     if (progress && i > 0) progress(i, truths.size());
     Frame f;
     f.width = w;

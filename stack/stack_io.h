@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/output_defaults.h"
 #include "stack/frame.h"
 
 namespace skypol::stack {
@@ -27,8 +28,9 @@ struct StackHeader {
   bool site_known = true;
 };
 
+// Defaults: the renders' (scene/output_defaults.h), so every writer of stacks agrees by default.
 struct WriteOptions {
-  bool half = false;
+  bool half = scene::kDefaultHalf;
   std::string compression = "zip";  // none, zip, zips, piz, rle, pxr24, b44, b44a, dwaa, dwab
   int zip_level = 0;                // zip and zips: deflate level 1–9; 0: OpenEXR's default (4 in 3.1)
 };
