@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "skypole/enum_names.h"
+#include "skypole/sky_mask.h"
 
 namespace skypol::skypole {
 namespace {
@@ -288,6 +289,7 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
       params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
   GreatCirclePairs out;
   out.sky = prepare_sky_images(stack, params.input, min_frames, method);
+  if (params.input.sky_mask) apply_sky_mask(out.sky, stack);
   const SkyImages& sky = out.sky;
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
