@@ -61,7 +61,8 @@ double write_stack_overlapped(const std::string& path, const std::vector<scene::
                             const std::function<void(std::size_t, Frame&)>& fill);
 
 // OpenEXR's global thread pool as the writer and the reader set it (one thread per hardware
-// thread); exposed so that a benchmark of OpenEXR alone runs with the same settings.
+// thread; an uncompressed stack is written without it, see stack_io.cpp); exposed so that a
+// benchmark of OpenEXR alone runs with the same settings.
 void use_all_cores_for_exr();
 
 // Reads a stack back, all channels or only those named (a missing one is an error naming it).
