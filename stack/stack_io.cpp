@@ -264,6 +264,11 @@ void write_part(Imf::MultiPartOutputFile& file, std::size_t i, const Frame& fram
 // cores (measured: rle 1.3 s wall with the pool, 1.7 s without); the rest encode 16 or more
 // lines per task.
 bool only_copies(const std::string& compression) { return compression == "none"; }
+}  // namespace
+
+bool encodes_on_calling_thread(const WriteOptions& options) { return only_copies(options.compression); }
+
+namespace {
 
 // The global pool's size for the lifetime of a write, restored afterwards. The pool is the
 // process's: an EXR read or write on another thread meanwhile runs without it (slower, not wrong).
