@@ -1,6 +1,7 @@
 #include "render/pipeline.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +28,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // variant): its pixel memory is already allocated and touched, so a next stack of the same size
 // pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
 thread_local stack::Frame t_spare_frame;
+thread_local stack::Frame t_spare_second;  // an overlapped write's second frame (render_scene)
 
 // A render in which no pixel sees the sky, or next to none (fewer than 1 in 10 000), is a
 // mistake in the scene (focal_mm in metres gives an image circle of a pixel or two; a camera facing
@@ -171,27 +173,40 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   wo.compression = scene.output.compression;
   wo.zip_level = scene.output.zip_level;
 
-  // Parts are rendered and written in turn into one frame. stack::write_stack_overlapped (the
-  // next part rendered while this one is encoded) measured 20 % more CPU and no shorter wall time
-  // on the 2-core machine, its TBB workers and OpenEXR's pool competing for the same cores
-  // (docs/benchmarks.md section 9); it stays for machines where writing waits on a disk.
   double render_s = 0;
   const auto t_total = Clock::now();
-  stack::Frame& f = frame;
-  stack::write_stack_reusing(
-      out_path, truths, written, cam->width(), cam->height(), header, wo, [&](std::size_t i) -> const stack::Frame& {
-        if (progress && i > 0) progress(i, truths.size());
-        const auto t0 = Clock::now();
-        renderer.render(band_skies, truths[i].sun, f);
-        if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
-        render_s += since(t0);
-        f.truth = truths[i];
-        if (previews) previews->add(i, f, *cam, scene.render.bands.front());
-        // The writer reads only the channels the file keeps; the others (what a sensor or the
-        // previews needed) stay in the frame, whose memory a later part reuses.
-        return f;
-      });
-  report.write_seconds = since(t_total) - render_s;
+  auto fill = [&](std::size_t i, stack::Frame& f) {
+    if (progress && i > 0) progress(i, truths.size());
+    const auto t0 = Clock::now();
+    renderer.render(band_skies, truths[i].sun, f);
+    if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
+    render_s += since(t0);
+    f.truth = truths[i];
+    if (previews) previews->add(i, f, *cam, scene.render.bands.front());
+    // The writer reads only the channels the file keeps; the others (what a sensor or the
+    // previews needed) stay in the frame, whose memory a later part reuses.
+  };
+  if (truths.size() > 1 && stack::encodes_on_calling_thread(wo)) {
+    // Uncompressed: OpenEXR copies on this thread alone, so part i + 1 renders on the other core
+    // meanwhile, into a second frame (kept for the next stack too). 23 parts of the paper's
+    // scene: 0.74 s wall in turn, 0.67 s overlapped (docs/benchmarks.md section 9). A compressed
+    // stack's encoding already uses both cores: overlapping it cost 12 % more CPU and 13 % more
+    // wall, so those parts are written in turn.
+    std::array<stack::Frame, 2> frames{std::move(frame), t_spare_second.channels.empty()
+                                                             ? renderer.new_frame()
+                                                             : std::exchange(t_spare_second, {})};
+    report.write_seconds = stack::write_stack_overlapped(out_path, truths, written, cam->width(), cam->height(),
+                                                         header, wo, frames, fill);
+    frame = std::move(frames[0]);
+    t_spare_second = std::move(frames[1]);
+  } else {
+    stack::write_stack_reusing(out_path, truths, written, cam->width(), cam->height(), header, wo,
+                               [&](std::size_t i) -> const stack::Frame& {
+                                 fill(i, frame);
+                                 return frame;
+                               });
+    report.write_seconds = since(t_total) - render_s;
+  }
   t_spare_frame = std::move(frame);
   if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());

@@ -32,6 +32,7 @@
 #include "scene/scene.h"
 #include "scene/scene_error.h"
 #include "scene/truth.h"
+#include "stack/exr_ostream.h"
 #include "stack/temp_files.h"
 
 namespace skypol::stack {
@@ -255,6 +256,37 @@ void write_part(Imf::MultiPartOutputFile& file, std::size_t i, const Frame& fram
   part.writePixels(height);
 }
 
+// OpenEXR encodes each line buffer as a task of its global thread pool. An uncompressed file's
+// line buffer is one scanline, so the pool is woken 2048 times per part for a copy of a few
+// microseconds: on 2 cores a third of an uncompressed stack's CPU went to those wake-ups (perf,
+// docs/benchmarks.md section 9). Such files are encoded on the calling thread (a pool of none).
+// rle and zips also encode a line at a time, but their compression is worth spreading over the
+// cores (the paper's scene, DoLP and AoLP as float: 5 frames of rle 0.70-0.76 s wall with the
+// pool, 0.82-0.89 s without; 3 of zips 1.33 s and 1.69 s); the rest encode 16 or more lines per task.
+bool only_copies(const std::string& compression) { return compression == "none"; }
+}  // namespace
+
+bool encodes_on_calling_thread(const WriteOptions& options) { return only_copies(options.compression); }
+
+namespace {
+
+// The global pool's size for the lifetime of a write, restored afterwards. The pool is the
+// process's: an EXR read or write on another thread meanwhile runs without it (slower, not wrong).
+class ExrPoolForWrite {
+ public:
+  explicit ExrPoolForWrite(const std::string& compression) : saved_(Imf::globalThreadCount()) {
+    if (only_copies(compression)) Imf::setGlobalThreadCount(0);
+  }
+  ~ExrPoolForWrite() {
+    if (Imf::globalThreadCount() != saved_) Imf::setGlobalThreadCount(saved_);
+  }
+  ExrPoolForWrite(const ExrPoolForWrite&) = delete;
+  ExrPoolForWrite& operator=(const ExrPoolForWrite&) = delete;
+
+ private:
+  int saved_;
+};
+
 // The temporary file, its parts written by write_parts(file), renamed to path when complete;
 // removed on any error, which is rethrown as a SceneError naming path.
 void write_to_temporary(const std::string& path, const std::vector<scene::Truth>& truths,
@@ -271,10 +303,14 @@ void write_to_temporary(const std::string& path, const std::vector<scene::Truth>
     std::vector<Imf::Header> headers;
     headers.reserve(truths.size());
     for (const scene::Truth& t : truths) headers.push_back(part_header(t, channels, width, height, header, options));
+    const ExrPoolForWrite pool(options.compression);
+    BackgroundFileStream out(tmp);
     {
-      Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), static_cast<int>(headers.size()));
+      Imf::MultiPartOutputFile file(out, headers.data(), static_cast<int>(headers.size()), false,
+                                    Imf::globalThreadCount());
       write_parts(file);
     }
+    out.finish();  // every byte in the file, or the write's error
     fs::rename(tmp, target);
   } catch (const scene::SceneError&) {
     fs::remove(tmp, ec);

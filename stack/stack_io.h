@@ -60,8 +60,15 @@ double write_stack_overlapped(const std::string& path, const std::vector<scene::
                             const WriteOptions& options, std::array<Frame, 2>& frames,
                             const std::function<void(std::size_t, Frame&)>& fill);
 
+// Whether a stack with these options is encoded on the calling thread alone (uncompressed: its
+// encoding is a copy, and OpenEXR's pool is left out, stack_io.cpp). The other core is then free
+// to render the next part meanwhile (write_stack_overlapped); a compressed stack's encoding
+// already uses every core.
+bool encodes_on_calling_thread(const WriteOptions& options);
+
 // OpenEXR's global thread pool as the writer and the reader set it (one thread per hardware
-// thread); exposed so that a benchmark of OpenEXR alone runs with the same settings.
+// thread; an uncompressed stack is written without it, see stack_io.cpp); exposed so that a
+// benchmark of OpenEXR alone runs with the same settings.
 void use_all_cores_for_exr();
 
 // Reads a stack back, all channels or only those named (a missing one is an error naming it).

@@ -201,7 +201,7 @@ BenchFigures bench_render(const scene::Scene& scene_in, int frames, const std::s
       b.zip_levels.push_back({level, t.best, static_cast<double>(fs::file_size(zpath)) / 1e6});
     }
     // Wall time less the once-per-stack set-up: what a user waits for per frame, whatever
-    // render_scene overlaps inside (stack::write_stack_overlapped, if it is used again).
+    // render_scene overlaps inside (stack::write_stack_overlapped, for uncompressed stacks).
     t0 = Clock::now();
     const render::RenderReport r = render::render_scene(scene, (fs::path(scratch_dir) / "stack.exr").string());
     b.end_to_end_ms = (ms_since(t0) - 1e3 * r.setup_seconds) / static_cast<double>(scene.times.size());

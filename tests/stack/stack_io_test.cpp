@@ -308,6 +308,37 @@ TEST_CASE("a later stack with the same camera reuses its rays and writes the fil
   fs::remove_all(dir);
 }
 
+TEST_CASE("an uncompressed stack, each part rendered while the last is written, holds a compressed one's frames", "[stack]") {
+  // render_scene overlaps rendering and writing only for compression none (render/pipeline.cpp);
+  // a zip stack is written part after part. Both must hold the same pixels and truths, part by
+  // part, also when the thread's spare frames come from a stack of another size.
+  const fs::path dir = temp_dir();
+  const std::string base = std::string(kScene) + "[output]\npixel_type = \"float\"\n";
+  std::string other = base;
+  other.replace(other.find("width = 70\nheight = 60"), 22, "width = 90\nheight = 50");
+  std::thread([&] {
+    render::render_scene(scene::parse_scene(base + "compression = \"zip\"\n", "zip.toml"), (dir / "zip.exr").string());
+    render::render_scene(scene::parse_scene(base + "compression = \"none\"\n", "none.toml"), (dir / "none.exr").string());
+    render::render_scene(scene::parse_scene(other + "compression = \"none\"\n", "other.toml"), (dir / "other.exr").string());
+    render::render_scene(scene::parse_scene(base + "compression = \"none\"\n", "none.toml"), (dir / "again.exr").string());
+  }).join();
+  const stack::Stack zip = stack::read_stack((dir / "zip.exr").string());
+  for (const char* name : {"none.exr", "again.exr"}) {
+    INFO(name);
+    const stack::Stack none = stack::read_stack((dir / name).string());
+    REQUIRE(none.frames.size() == 3);
+    REQUIRE(zip.frames.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i) {
+      CHECK(none.frames[i].truth.time.unix_seconds == zip.frames[i].truth.time.unix_seconds);
+      CHECK(none.frames[i].channels == zip.frames[i].channels);
+    }
+    // The frames differ from part to part (the sun moves), so a part in the wrong place would show.
+    CHECK(none.frames[0].channel("DoLP.Y") != none.frames[1].channel("DoLP.Y"));
+  }
+  CHECK(file_bytes((dir / "again.exr").string()) == file_bytes((dir / "none.exr").string()));
+  fs::remove_all(dir);
+}
+
 TEST_CASE("the overlapped writer fills parts in order, one at a time, into the bytes of the plain writer", "[stack]") {
   const fs::path dir = temp_dir();
   std::vector<scene::Truth> truths(5);
