@@ -23,6 +23,13 @@ inline constexpr std::size_t kRowBlock = 256;
 inline double vmin(double a, double b) { return b < a ? b : a; }
 inline double vmax(double a, double b) { return a < b ? b : a; }
 
+// x clamped to [lo, hi], a NaN to lo: for table indices, which must stay in bounds whatever the
+// pixel (a non-finite row computes its lanes before they are discarded).
+inline double index_clamp(double x, double lo, double hi) {
+  const double a = x >= lo ? x : lo;
+  return a <= hi ? a : hi;
+}
+
 // The column x0 + i. Through int: SSE2 converts int32, not size_t, to double in vector code (the
 // same value for any row a sensor has).
 inline double column(double x0, std::size_t i) { return x0 + static_cast<double>(static_cast<int>(i)); }
@@ -55,8 +62,8 @@ const SinCosTable& sincos_table();
 // nearest node θi, then the angle-addition formula with the Taylor series of Δ = θ − θi
 // (|Δ| ≤ π/512, so the terms kept leave < 1e-25). Δ is exact (Sterbenz).
 inline void sincos_0_pi(const SinCosTable& t, double theta, double& s, double& c) {
-  const double q = vmin(vmax(theta * (SinCosTable::kNodes / 3.14159265358979323846) + 0.5, 0.0),
-                        static_cast<double>(SinCosTable::kNodes));
+  const double q = index_clamp(theta * (SinCosTable::kNodes / 3.14159265358979323846) + 0.5, 0.0,
+                               static_cast<double>(SinCosTable::kNodes));
   const int i = static_cast<int>(q);
   const double* nodes = t.theta;
   const double* sines = t.s;
@@ -98,7 +105,7 @@ struct RadialTable {
 
   // The interpolated θ at r (clamped to [0, r_max]).
   double operator()(double r) const {
-    const double u = vmin(vmax(r, 0.0), r_max) * inv_h;
+    const double u = index_clamp(r, 0.0, r_max) * inv_h;
     const int iu = static_cast<int>(u);
     const int i = iu < kSegments - 1 ? iu : kSegments - 1;
     const double t = u - i, s = 1 - t;
