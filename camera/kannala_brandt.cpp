@@ -61,13 +61,8 @@ KannalaBrandtLens::KannalaBrandtLens(Intrinsics intrinsics, std::array<double, 4
     theta_max_ = *turn;
   }
   r_max_ = distorted(theta_max_);
-  table_ = std::make_shared<const detail::RadialTable>(
-      theta_max_, r_max_, [this](double t, double& r, double& dr) { r = distorted(t), dr = distorted_derivative(t); },
-      [this](double r) {
-        return detail::solve_increasing([this](double t) { return distorted(t); },
-                                        [this](double t) { return distorted_derivative(t); }, r, 0.0, theta_max_, r)
-            .value_or(theta_max_);
-      });
+  table_ = std::make_shared<const detail::LazyRadialTable>(
+      [k = coef_, t = theta_max_] { return detail::odd_polynomial_table(k, t); });
 }
 
 double KannalaBrandtLens::distorted(double t) const {
@@ -105,7 +100,9 @@ void KannalaBrandtLens::ray_row(double y, double x0, std::size_t n, double* dx, 
     r = t * (1 + t2 * (c[0] + t2 * (c[1] + t2 * (c[2] + t2 * c[3]))));
     dr = 1 + t2 * (3 * c[0] + t2 * (5 * c[1] + t2 * (7 * c[2] + t2 * 9 * c[3])));
   };
-  detail::tabulated_ray_row(k_, *table_, theta_max_, fwd, [this](const Eigen::Vector2d& p) { return ray(p); }, y, x0,
+  const detail::RadialTable* table = table_->get();
+  if (!table) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);  // not expected: θd rises up to θmax
+  detail::tabulated_ray_row(k_, *table, theta_max_, fwd, [this](const Eigen::Vector2d& p) { return ray(p); }, y, x0,
                             n, dx, dy, dz, valid);
 }
 

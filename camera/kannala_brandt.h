@@ -16,7 +16,7 @@
 
 namespace skypol::camera {
 namespace detail {
-struct RadialTable;
+class LazyRadialTable;
 }
 
 class KannalaBrandtLens final : public Lens {
@@ -51,7 +51,7 @@ class KannalaBrandtLens final : public Lens {
   std::array<double, 4> coef_;
   double theta_max_;
   double r_max_;  // θd(θmax)
-  std::shared_ptr<const detail::RadialTable> table_;  // θ(θd), for ray_row
+  std::shared_ptr<const detail::LazyRadialTable> table_;  // θ(θd), for ray_row
 };
 
 }  // namespace skypol::camera

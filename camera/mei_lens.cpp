@@ -56,34 +56,15 @@ MeiLens::MeiLens(Intrinsics intrinsics, double skew, double xi, std::array<doubl
                                 detail::format_deg(lo) + ")");
   }
   // The radial part ρ·(1 + k1ρ² + k2ρ⁴) alone, inverted by a table, starts ray_row's Newton steps.
-  const double k1 = dist_[0], k2 = dist_[1];
-  const auto radial = [k1, k2](double t, double& r, double& dr) {
-    const double t2 = t * t;
-    r = t * (1 + t2 * (k1 + t2 * k2));
-    dr = 1 + t2 * (3 * k1 + t2 * 5 * k2);
-  };
-  const auto slope = [&](double t) {
-    double r, dr;
-    radial(t, r, dr);
-    return dr;
-  };
-  if (!detail::first_turning_point(slope, r_max_)) {
-    double r_top, dr;
-    radial(r_max_, r_top, dr);
-    const auto value = [&](double t) {
-      double r, d;
-      radial(t, r, d);
-      return r;
-    };
-    table_ = std::make_shared<const detail::RadialTable>(r_max_, r_top, radial, [&](double r) {
-      return detail::solve_increasing(value, slope, r, 0.0, r_max_, r).value_or(r_max_);
-    });
-  }
+  table_ = std::make_shared<const detail::LazyRadialTable>([d = dist_, r = r_max_] {
+    return detail::odd_polynomial_table({d[0], d[1], 0, 0}, r);
+  });
 }
 
 void MeiLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
                       unsigned char* valid) const {
-  if (!table_) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);
+  const detail::RadialTable* table = table_->get();
+  if (!table) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);
   const auto [k1, k2, p1, p2] = dist_;
   const Intrinsics k = k_;
   const double skew = skew_, xi = xi_, r_max = r_max_;
@@ -113,7 +94,7 @@ void MeiLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy
     ox = a / len, oy = b / len, oz = c / len;
     return (disc >= 0) & (len > 0) & (len < HUGE_VAL);
   };
-  detail::undistort_ray_row(*table_, r_max_, norm, dist, lift, [this](const Eigen::Vector2d& p) { return ray(p); }, y,
+  detail::undistort_ray_row(*table, r_max_, norm, dist, lift, [this](const Eigen::Vector2d& p) { return ray(p); }, y,
                             x0, n, dx, dy, dz, valid);
 }
 

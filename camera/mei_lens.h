@@ -18,7 +18,7 @@
 
 namespace skypol::camera {
 namespace detail {
-struct RadialTable;
+class LazyRadialTable;
 }
 
 class MeiLens final : public Lens {
@@ -55,7 +55,7 @@ class MeiLens final : public Lens {
   double skew_, xi_;
   std::array<double, 4> dist_;
   double theta_max_, r_max_;
-  std::shared_ptr<const detail::RadialTable> table_;  // the radial part's inverse, for ray_row
+  std::shared_ptr<const detail::LazyRadialTable> table_;  // the radial part's inverse, for ray_row
 };
 
 }  // namespace skypol::camera

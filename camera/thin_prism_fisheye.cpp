@@ -43,34 +43,15 @@ ThinPrismFisheyeLens::ThinPrismFisheyeLens(Intrinsics intrinsics, std::array<dou
     throw std::invalid_argument("thin prism distortion not one-to-one over the declared field of view (folds at " +
                                 detail::format_deg(*fold) + ")");
   // The radial part ρ·(1 + R(ρ²)) alone, inverted by a table, starts ray_row's Newton steps.
-  const auto [k1, k2, p1, p2, k3, k4, sx1, sy1] = c_;
-  const auto radial = [k1, k2, k3, k4](double t, double& r, double& dr) {
-    const double t2 = t * t;
-    r = t * (1 + t2 * (k1 + t2 * (k2 + t2 * (k3 + t2 * k4))));
-    dr = 1 + t2 * (3 * k1 + t2 * (5 * k2 + t2 * (7 * k3 + t2 * 9 * k4)));
-  };
-  const auto slope = [&](double t) {
-    double r, dr;
-    radial(t, r, dr);
-    return dr;
-  };
-  if (!detail::first_turning_point(slope, theta_max_)) {
-    double r_max, dr;
-    radial(theta_max_, r_max, dr);
-    const auto value = [&](double t) {
-      double r, d;
-      radial(t, r, d);
-      return r;
-    };
-    table_ = std::make_shared<const detail::RadialTable>(theta_max_, r_max, radial, [&](double r) {
-      return detail::solve_increasing(value, slope, r, 0.0, theta_max_, r).value_or(theta_max_);
-    });
-  }
+  table_ = std::make_shared<const detail::LazyRadialTable>([c = c_, t = theta_max_] {
+    return detail::odd_polynomial_table({c[0], c[1], c[4], c[5]}, t);
+  });
 }
 
 void ThinPrismFisheyeLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
                                    unsigned char* valid) const {
-  if (!table_) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);
+  const detail::RadialTable* table = table_->get();
+  if (!table) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);
   const auto [k1, k2, p1, p2, k3, k4, sx1, sy1] = c_;
   const Intrinsics k = k_;
   const auto norm = [k](double u, double v, double& mx, double& my) { mx = (u - k.cx) / k.fx, my = (v - k.cy) / k.fy; };
@@ -95,7 +76,7 @@ void ThinPrismFisheyeLens::ray_row(double y, double x0, std::size_t n, double* d
     ox = s_r * a, oy = s_r * b, oz = c;
     return true;
   };
-  detail::undistort_ray_row(*table_, theta_max_, norm, dist, lift, [this](const Eigen::Vector2d& p) { return ray(p); },
+  detail::undistort_ray_row(*table, theta_max_, norm, dist, lift, [this](const Eigen::Vector2d& p) { return ray(p); },
                             y, x0, n, dx, dy, dz, valid);
 }
 

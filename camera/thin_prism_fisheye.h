@@ -17,7 +17,7 @@
 
 namespace skypol::camera {
 namespace detail {
-struct RadialTable;
+class LazyRadialTable;
 }
 
 class ThinPrismFisheyeLens final : public Lens {
@@ -49,7 +49,7 @@ class ThinPrismFisheyeLens final : public Lens {
   Intrinsics k_;
   std::array<double, 8> c_;
   double theta_max_;
-  std::shared_ptr<const detail::RadialTable> table_;  // the radial part's inverse, for ray_row
+  std::shared_ptr<const detail::LazyRadialTable> table_;  // the radial part's inverse, for ray_row
 };
 
 }  // namespace skypol::camera

@@ -7,7 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <cstddef>
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include <Eigen/Core>
@@ -113,6 +117,27 @@ struct RadialTable {
     const double* m = slope_h.data();
     return s * s * ((1 + 2 * t) * th[i] + t * m[i]) + t * t * ((3 - 2 * t) * th[i + 1] - s * m[i + 1]);
   }
+};
+
+// The table of r(θ) = θ·(1 + k1θ² + k2θ⁴ + k3θ⁶ + k4θ⁸) on [0, θmax] (Kannala–Brandt's θd, and
+// the radial parts of thin prism and Mei), or nullptr where r'(θ) stops being positive inside.
+std::unique_ptr<const RadialTable> odd_polynomial_table(const std::array<double, 4>& k, double theta_max);
+
+// A table built on first use, once, by whichever thread asks first: lenses are built far more
+// often than they answer rows (fit_fov_to_sensor bisects on make_lens), and ray() needs none.
+// build() holds values, not the lens, so lens copies may share it.
+class LazyRadialTable {
+ public:
+  explicit LazyRadialTable(std::function<std::unique_ptr<const RadialTable>()> build) : build_(std::move(build)) {}
+  const RadialTable* get() const {
+    std::call_once(once_, [this] { table_ = build_(); });
+    return table_.get();
+  }
+
+ private:
+  std::function<std::unique_ptr<const RadialTable>()> build_;
+  mutable std::once_flag once_;
+  mutable std::unique_ptr<const RadialTable> table_;
 };
 
 // Lens::ray_row for a radially symmetric lens with normalized image height r(θ) rising on
