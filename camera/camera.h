@@ -49,8 +49,8 @@ class Camera {
   // nullopt outside the image circle (or where the lens inverse fails).
   std::optional<CameraRay> ray(const Eigen::Vector2d& pixel) const;
   // ray() of the n pixels (x0 + i, y), i < n, cast to float: the renderer's per-stack planes.
-  // The same bits as ray() pixel by pixel, at the cost of the arithmetic (Lens::ray_row, no
-  // per-pixel virtual call, optional or heap).
+  // ray()'s floats, at the cost of the arithmetic (Lens::ray_row, no per-pixel virtual call,
+  // optional or heap); the same bits where the lens's ray_row gives ray()'s (Lens::ray_row).
   void ray_row(int y, int x0, std::size_t n, const RayRowOut& out) const;
   // Pixel of a world direction, nullopt if the lens cannot image it.
   std::optional<Eigen::Vector2d> project(const Eigen::Vector3d& dir_world) const;

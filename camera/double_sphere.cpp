@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "camera/detail/radial_util.h"
+#include "camera/detail/ray_table.h"
 
 namespace skypol::camera {
 
@@ -53,22 +54,42 @@ std::optional<Eigen::Vector2d> DoubleSphereLens::project(const Eigen::Vector3d& 
   return detail::project_radial(k_, theta_max_, dir_cam, [this](double t) { return radius(t); });
 }
 
+namespace {
+
+// Eqs. 46–47 for one pixel, shared by ray() and ray_row (the same bits): the unit direction in
+// (x, y, z) and whether the pixel has one. Every lane is computed (square roots of max(·, 0)), so
+// a loop over pixels has no branch.
+struct Unproject {
+  Intrinsics k;
+  double xi, a, limit;
+  bool operator()(double u, double v, double& x, double& y, double& z) const {
+    const double mx = (u - k.cx) / k.fx, my = (v - k.cy) / k.fy;
+    const double r2 = mx * mx + my * my;
+    const double s1 = 1 - (2 * a - 1) * r2;  // eq. 46 validity: ≥ 0
+    const double mz = (1 - a * a * r2) / (a * std::sqrt(std::max(s1, 0.0)) + 1 - a);
+    const double s2 = mz * mz + (1 - xi * xi) * r2;
+    const double kk = (mz * xi + std::sqrt(std::max(s2, 0.0))) / (mz * mz + r2);
+    const double dx = kk * mx, dy = kk * my, dz = kk * mz - xi;
+    const double n = std::sqrt(dx * dx + dy * dy + dz * dz);
+    x = dx / n, y = dy / n, z = dz / n;
+    return (std::sqrt(r2) <= limit) & (s1 >= 0) & (s2 >= 0) & (n > 0) & (n < HUGE_VAL);  // no short circuit: no branch
+  }
+};
+
+}  // namespace
+
 std::optional<Eigen::Vector3d> DoubleSphereLens::ray(const Eigen::Vector2d& pixel) const {
-  const auto m = detail::normalized_within(k_, pixel, r_max_);
-  if (!m) return std::nullopt;
-  const auto [mx, my, r] = *m;
-  const double r2 = r * r;
-  const double a = alpha_;
-  const double s1 = 1 - (2 * a - 1) * r2;  // eq. 46 validity: ≥ 0
-  if (s1 < 0) return std::nullopt;
-  const double mz = (1 - a * a * r2) / (a * std::sqrt(s1) + 1 - a);
-  const double s2 = mz * mz + (1 - xi_ * xi_) * r2;
-  if (s2 < 0) return std::nullopt;
-  const double k = (mz * xi_ + std::sqrt(s2)) / (mz * mz + r2);
-  const Eigen::Vector3d d(k * mx, k * my, k * mz - xi_);
-  const double n = d.norm();
-  if (!(n > 0) || !std::isfinite(n)) return std::nullopt;
-  return Eigen::Vector3d(d / n);
+  if (!pixel.allFinite()) return std::nullopt;
+  Eigen::Vector3d d;
+  if (!Unproject{k_, xi_, alpha_, r_max_ * (1 + detail::kEdgeTol)}(pixel.x(), pixel.y(), d.x(), d.y(), d.z()))
+    return std::nullopt;
+  return d;
+}
+
+void DoubleSphereLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                               unsigned char* valid) const {
+  detail::closed_form_ray_row(Unproject{k_, xi_, alpha_, r_max_ * (1 + detail::kEdgeTol)}, y, x0, n, dx, dy, dz,
+                              valid);
 }
 
 std::shared_ptr<const Lens> DoubleSphereLens::rescaled(double s) const {

@@ -1,10 +1,12 @@
 // EUCM projection and its closed-form unprojection (eucm.h).
 #include "camera/eucm.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "camera/detail/radial_util.h"
+#include "camera/detail/ray_table.h"
 
 namespace skypol::camera {
 
@@ -40,18 +42,39 @@ std::optional<Eigen::Vector2d> EucmLens::project(const Eigen::Vector3d& dir_cam)
   return detail::project_radial(k_, theta_max_, dir_cam, [this](double t) { return radius(t); });
 }
 
+namespace {
+
+// The closed-form unprojection (eucm.h) for one pixel, shared by ray() and ray_row (the same
+// bits); every lane computed, so a loop over pixels has no branch.
+struct Unproject {
+  Intrinsics k;
+  double a, b, r_max, limit;
+  bool operator()(double u, double v, double& x, double& y, double& z) const {
+    const double mx = (u - k.cx) / k.fx, my = (v - k.cy) / k.fy;
+    const double m2 = mx * mx + my * my;
+    const double r2 = std::min(m2, r_max * r_max);
+    const double s = 1 - (2 * a - 1) * b * r2;
+    const double mz = (1 - b * a * a * r2) / (a * std::sqrt(std::max(s, 0.0)) + 1 - a);
+    const double n = std::sqrt(m2 + mz * mz);
+    x = mx / n, y = my / n, z = mz / n;
+    return (std::sqrt(m2) <= limit) & (s >= 0) & (n > 0) & (n < HUGE_VAL);  // no short circuit: no branch
+  }
+};
+
+}  // namespace
+
 std::optional<Eigen::Vector3d> EucmLens::ray(const Eigen::Vector2d& pixel) const {
-  const auto m = detail::normalized_within(k_, pixel, r_max_);
-  if (!m) return std::nullopt;
-  const auto [mx, my, r] = *m;
-  const double r2 = std::min(r * r, r_max_ * r_max_);
-  const double s = 1 - (2 * alpha_ - 1) * beta_ * r2;
-  if (s < 0) return std::nullopt;
-  const double mz = (1 - beta_ * alpha_ * alpha_ * r2) / (alpha_ * std::sqrt(s) + 1 - alpha_);
-  const Eigen::Vector3d d(mx, my, mz);
-  const double n = d.norm();
-  if (!(n > 0) || !std::isfinite(n)) return std::nullopt;
-  return Eigen::Vector3d(d / n);
+  if (!pixel.allFinite()) return std::nullopt;
+  Eigen::Vector3d d;
+  if (!Unproject{k_, alpha_, beta_, r_max_, r_max_ * (1 + detail::kEdgeTol)}(pixel.x(), pixel.y(), d.x(), d.y(), d.z()))
+    return std::nullopt;
+  return d;
+}
+
+void EucmLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                       unsigned char* valid) const {
+  detail::closed_form_ray_row(Unproject{k_, alpha_, beta_, r_max_, r_max_ * (1 + detail::kEdgeTol)}, y, x0, n, dx, dy,
+                              dz, valid);
 }
 
 std::shared_ptr<const Lens> EucmLens::rescaled(double s) const {

@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "camera/detail/radial_util.h"
+#include "camera/detail/ray_table.h"
 
 namespace skypol::camera {
 namespace {
@@ -60,6 +61,8 @@ KannalaBrandtLens::KannalaBrandtLens(Intrinsics intrinsics, std::array<double, 4
     theta_max_ = *turn;
   }
   r_max_ = distorted(theta_max_);
+  table_ = std::make_shared<const detail::LazyRadialTable>(
+      [k = coef_, t = theta_max_] { return detail::odd_polynomial_table(k, t); });
 }
 
 double KannalaBrandtLens::distorted(double t) const {
@@ -86,6 +89,21 @@ std::optional<Eigen::Vector3d> KannalaBrandtLens::ray(const Eigen::Vector2d& pix
                                               std::min(r, r_max_), 0.0, theta_max_, r);
   if (!theta) return std::nullopt;
   return detail::direction(*theta, mx, my, r);
+}
+
+void KannalaBrandtLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                                unsigned char* valid) const {
+  const auto& c = coef_;
+  // θd(θ) and its derivative as in distorted() and distorted_derivative(), inlined.
+  const auto fwd = [c](double t, double& r, double& dr) {
+    const double t2 = t * t;
+    r = t * (1 + t2 * (c[0] + t2 * (c[1] + t2 * (c[2] + t2 * c[3]))));
+    dr = 1 + t2 * (3 * c[0] + t2 * (5 * c[1] + t2 * (7 * c[2] + t2 * 9 * c[3])));
+  };
+  const detail::RadialTable* table = table_->get();
+  if (!table) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);  // not expected: θd rises up to θmax
+  detail::tabulated_ray_row(k_, *table, theta_max_, fwd, [this](const Eigen::Vector2d& p) { return ray(p); }, y, x0,
+                            n, dx, dy, dz, valid);
 }
 
 std::shared_ptr<const Lens> KannalaBrandtLens::rescaled(double s) const {

@@ -38,9 +38,11 @@ class Lens {
   virtual std::optional<Eigen::Vector3d> ray(const Eigen::Vector2d& pixel) const = 0;
 
   // ray() of the n pixels (x0 + i, y), i < n, in one call: d{x,y,z}[i] the unit direction and
-  // valid[i] = 1, or valid[i] = 0 and d = (0, 0, 1) where ray() gives nullopt. Bit for bit what
-  // ray() gives (tests/camera/ray_row_test); a model overrides it to drop the per-pixel virtual
-  // call and optional. The base version calls ray() per pixel, so a new model works unchanged.
+  // valid[i] = 1, or valid[i] = 0 and d = (0, 0, 1) where ray() gives nullopt. Validity is
+  // exactly ray()'s; the directions are ray()'s bits for the closed forms and within 1e-12 rad of
+  // them for the tabulated inverses of Kannala–Brandt, thin prism and Mei (camera/detail/ray_table.h;
+  // tests/camera/ray_row_test). A model overrides it to drop the per-pixel virtual call, optional
+  // and iteration. The base version calls ray() per pixel, so a new model works unchanged.
   virtual void ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
                        unsigned char* valid) const;
 

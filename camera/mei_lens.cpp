@@ -7,6 +7,7 @@
 
 #include "camera/detail/distortion_2d.h"
 #include "camera/detail/radial_util.h"
+#include "camera/detail/ray_table.h"
 
 namespace skypol::camera {
 namespace {
@@ -54,6 +55,47 @@ MeiLens::MeiLens(Intrinsics intrinsics, double skew, double xi, std::array<doubl
     throw std::invalid_argument("radial-tangential distortion not one-to-one over the declared field of view (folds at " +
                                 detail::format_deg(lo) + ")");
   }
+  // The radial part ρ·(1 + k1ρ² + k2ρ⁴) alone, inverted by a table, starts ray_row's Newton steps.
+  table_ = std::make_shared<const detail::LazyRadialTable>([d = dist_, r = r_max_] {
+    return detail::odd_polynomial_table({d[0], d[1], 0, 0}, r);
+  });
+}
+
+void MeiLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                      unsigned char* valid) const {
+  const detail::RadialTable* table = table_->get();
+  if (!table) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);
+  const auto [k1, k2, p1, p2] = dist_;
+  const Intrinsics k = k_;
+  const double skew = skew_, xi = xi_, r_max = r_max_;
+  const auto norm = [k, skew](double u, double v, double& mx, double& my) {
+    my = (v - k.cy) / k.fy;
+    mx = (u - k.cx - skew * my) / k.fx;
+  };
+  // distort() of the anonymous namespace, its Eigen types spelled out as scalars.
+  const auto dist = [=](double a, double b, double& qa, double& qb, double* j) {
+    const double r2 = a * a + b * b;
+    const double radial = 1 + r2 * (k1 + r2 * k2);
+    const double dradial = k1 + 2 * k2 * r2;
+    qa = a * radial + 2 * p1 * a * b + p2 * (r2 + 2 * a * a);
+    qb = b * radial + p1 * (r2 + 2 * b * b) + 2 * p2 * a * b;
+    j[0] = radial + 2 * a * a * dradial + 2 * p1 * b + 6 * p2 * a;
+    j[1] = 2 * a * b * dradial + 2 * p1 * a + 2 * p2 * b;
+    j[2] = j[1];
+    j[3] = radial + 2 * b * b * dradial + 6 * p1 * b + 2 * p2 * a;
+  };
+  // ray()'s lift to the sphere (Mei & Rives eq. 5).
+  const auto lift = [xi, r_max](double px, double py, double pr, double& ox, double& oy, double& oz) {
+    const double r2 = pr * pr;
+    const double disc = 1 + (1 - xi * xi) * detail::vmin(r2, r_max * r_max);
+    const double lambda = (xi + std::sqrt(detail::vmax(disc, 0.0))) / (1 + r2);
+    const double a = lambda * px, b = lambda * py, c = lambda - xi;
+    const double len = std::sqrt(a * a + b * b + c * c);
+    ox = a / len, oy = b / len, oz = c / len;
+    return (disc >= 0) & (len > 0) & (len < HUGE_VAL);
+  };
+  detail::undistort_ray_row(*table, r_max_, norm, dist, lift, [this](const Eigen::Vector2d& p) { return ray(p); }, y,
+                            x0, n, dx, dy, dz, valid);
 }
 
 double MeiLens::radius(double theta) const { return std::sin(theta) / (std::cos(theta) + xi_); }

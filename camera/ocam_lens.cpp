@@ -10,6 +10,7 @@
 #include <string>
 
 #include "camera/detail/radial_util.h"
+#include "camera/detail/ray_table.h"
 
 namespace skypol::camera {
 namespace {
@@ -162,17 +163,65 @@ double OCamLens::dtheta_drho(double rho) const {
   return (-p + rho * pol_derivative(rho)) / (rho * rho + p * p);
 }
 
+// ray() and ray_row share these three steps, so they give the same bits: the pre-affine point and
+// its radius, the polynomial (Horner, the coefficients in the outer loop so that the pixel loop
+// vectorises), and the direction (Y, X, −Z) normalised.
+namespace {
+
+struct PreAffine {
+  double xp, yp, rho;
+};
+
+inline PreAffine pre_affine(const OCamModel& m, double u, double v) {
+  const double dr = v - m.xc, dc = u - m.yc;  // row, column offsets
+  const double det = m.c - m.d * m.e;
+  const double xp = (dr - m.d * dc) / det, yp = (-m.e * dr + m.c * dc) / det;
+  return {xp, yp, std::sqrt(xp * xp + yp * yp)};
+}
+
+inline bool finish(double xp, double yp, double pol, bool inside, double& x, double& y, double& z) {
+  const double dz = -pol;
+  const double n = std::sqrt(yp * yp + xp * xp + dz * dz);
+  x = yp / n, y = xp / n, z = dz / n;
+  return inside & (n > 0) & (n < HUGE_VAL);  // no short circuit: no branch
+}
+
+}  // namespace
+
 std::optional<Eigen::Vector3d> OCamLens::ray(const Eigen::Vector2d& pixel) const {
   if (!pixel.allFinite()) return std::nullopt;
-  const double dr = pixel.y() - m_.xc, dc = pixel.x() - m_.yc;  // row, column offsets
-  const double det = m_.c - m_.d * m_.e;
-  const double xp = (dr - m_.d * dc) / det, yp = (-m_.e * dr + m_.c * dc) / det;
-  const double rho = std::hypot(xp, yp);
-  if (rho > rho_max_ * (1 + detail::kEdgeTol)) return std::nullopt;
-  const Eigen::Vector3d d(yp, xp, -pol(std::min(rho, rho_max_)));  // (Y, X, −Z)
-  const double n = d.norm();
-  if (!(n > 0) || !std::isfinite(n)) return std::nullopt;
-  return Eigen::Vector3d(d / n);
+  const PreAffine p = pre_affine(m_, pixel.x(), pixel.y());
+  const bool inside = p.rho <= rho_max_ * (1 + detail::kEdgeTol);
+  Eigen::Vector3d d;
+  if (!finish(p.xp, p.yp, pol(std::min(p.rho, rho_max_)), inside, d.x(), d.y(), d.z())) return std::nullopt;
+  return d;
+}
+
+void OCamLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                       unsigned char* valid) const {
+  const bool finite = std::isfinite(y) && std::isfinite(x0) && std::isfinite(x0 + static_cast<double>(n));
+  const double limit = rho_max_ * (1 + detail::kEdgeTol);
+  double xp[detail::kRowBlock], yp[detail::kRowBlock], rho[detail::kRowBlock], z[detail::kRowBlock];
+  for (std::size_t b = 0; b < n; b += detail::kRowBlock) {
+    const std::size_t m = std::min(detail::kRowBlock, n - b);
+    for (std::size_t i = 0; i < m; ++i) {
+      const PreAffine p = pre_affine(m_, detail::column(x0, b + i), y);
+      xp[i] = p.xp, yp[i] = p.yp, rho[i] = p.rho, z[i] = 0;
+    }
+    // pol(min(ρ, ρmax)) as pol() computes it: z = z·ρ + a_j from the highest coefficient down.
+    for (auto it = m_.pol.rbegin(); it != m_.pol.rend(); ++it) {
+      const double a = *it;
+      for (std::size_t i = 0; i < m; ++i) z[i] = z[i] * std::min(rho[i], rho_max_) + a;
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      double u, v, w;
+      const bool ok = finite & finish(xp[i], yp[i], z[i], rho[i] <= limit, u, v, w);
+      valid[b + i] = ok ? 1 : 0;
+      dx[b + i] = ok ? u : 0.0;
+      dy[b + i] = ok ? v : 0.0;
+      dz[b + i] = ok ? w : 1.0;
+    }
+  }
 }
 
 std::optional<Eigen::Vector2d> OCamLens::project(const Eigen::Vector3d& dir_cam) const {

@@ -7,6 +7,7 @@
 
 #include "camera/detail/distortion_2d.h"
 #include "camera/detail/radial_util.h"
+#include "camera/detail/ray_table.h"
 
 namespace skypol::camera {
 namespace {
@@ -41,6 +42,42 @@ ThinPrismFisheyeLens::ThinPrismFisheyeLens(Intrinsics intrinsics, std::array<dou
   if (const auto fold = detail::first_fold([this](const Eigen::Vector2d& p) { return distort(c_, p); }, theta_max_))
     throw std::invalid_argument("thin prism distortion not one-to-one over the declared field of view (folds at " +
                                 detail::format_deg(*fold) + ")");
+  // The radial part ρ·(1 + R(ρ²)) alone, inverted by a table, starts ray_row's Newton steps.
+  table_ = std::make_shared<const detail::LazyRadialTable>([c = c_, t = theta_max_] {
+    return detail::odd_polynomial_table({c[0], c[1], c[4], c[5]}, t);
+  });
+}
+
+void ThinPrismFisheyeLens::ray_row(double y, double x0, std::size_t n, double* dx, double* dy, double* dz,
+                                   unsigned char* valid) const {
+  const detail::RadialTable* table = table_->get();
+  if (!table) return Lens::ray_row(y, x0, n, dx, dy, dz, valid);
+  const auto [k1, k2, p1, p2, k3, k4, sx1, sy1] = c_;
+  const Intrinsics k = k_;
+  const auto norm = [k](double u, double v, double& mx, double& my) { mx = (u - k.cx) / k.fx, my = (v - k.cy) / k.fy; };
+  // distort() of the anonymous namespace, its Eigen types spelled out as scalars.
+  const auto dist = [=](double a, double b, double& qa, double& qb, double* j) {
+    const double r2 = a * a + b * b;
+    const double radial = r2 * (k1 + r2 * (k2 + r2 * (k3 + r2 * k4)));
+    const double dradial = k1 + r2 * (2 * k2 + r2 * (3 * k3 + r2 * 4 * k4));
+    qa = a + a * radial + 2 * p1 * a * b + p2 * (r2 + 2 * a * a) + sx1 * r2;
+    qb = b + b * radial + 2 * p2 * a * b + p1 * (r2 + 2 * b * b) + sy1 * r2;
+    j[0] = 1 + radial + 2 * a * a * dradial + 2 * p1 * b + 6 * p2 * a + 2 * sx1 * a;
+    j[1] = 2 * a * b * dradial + 2 * p1 * a + 2 * p2 * b + 2 * sx1 * b;
+    j[2] = 2 * a * b * dradial + 2 * p2 * b + 2 * p1 * a + 2 * sy1 * a;
+    j[3] = 1 + radial + 2 * b * b * dradial + 2 * p2 * a + 6 * p1 * b + 2 * sy1 * b;
+  };
+  const detail::SinCosTable& sc = detail::sincos_table();
+  const double tm = theta_max_;
+  const auto lift = [&sc, tm](double a, double b, double pr, double& ox, double& oy, double& oz) {
+    double s, c;
+    detail::sincos_0_pi(sc, detail::vmin(pr, tm), s, c);
+    const double s_r = s / detail::vmax(pr, 1e-300);
+    ox = s_r * a, oy = s_r * b, oz = c;
+    return true;
+  };
+  detail::undistort_ray_row(*table, theta_max_, norm, dist, lift, [this](const Eigen::Vector2d& p) { return ray(p); },
+                            y, x0, n, dx, dy, dz, valid);
 }
 
 std::optional<Eigen::Vector2d> ThinPrismFisheyeLens::project(const Eigen::Vector3d& dir_cam) const {

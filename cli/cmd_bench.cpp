@@ -1,6 +1,7 @@
 // `skypol bench SCENE`: what a frame costs. Figures only; nothing here is a test.
 // --json prints the same figures and their context as one JSON object, for scripts.
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -145,6 +146,7 @@ void add_bench(CLI::App& app) {
     bool json = false;
     bool render_only = false;
     bool no_vrte = false;
+    bool rays = false;
     std::vector<int> vrte_streams;
     std::vector<int> zip_levels;
   };
@@ -157,6 +159,8 @@ void add_bench(CLI::App& app) {
   bench->add_flag("--render-only", a->render_only, "Time the renderer only (no writing, no end-to-end run)");
   bench->add_flag("--no-vrte", a->no_vrte,
                   "Skip the VRTE sky's figures (table build per band, warm-table render beside single scattering)");
+  bench->add_flag("--rays", a->rays,
+                  "Only the camera rays: Mrays/s per lens model (scenes/calibrations/) and the round trip in px");
   bench->add_option("--vrte-streams", a->vrte_streams,
                     "Also time the first band's VRTE table at each of these streams values (the accuracy knob)")
       ->check(CLI::Range(4, 64));
@@ -165,6 +169,7 @@ void add_bench(CLI::App& app) {
                     "the scene's compression is unchanged)")
       ->check(CLI::Range(1, 9));
   bench->callback([a] {
+    if (a->rays) return print_rays_bench(std::filesystem::path(a->scene).parent_path().string(), a->frames);
     const scene::Scene scene = scene::load_scene(a->scene);
     const studies::BenchFigures b = studies::bench_render(scene, a->frames, a->scratch, a->render_only, a->zip_levels);
     std::optional<studies::VrteBenchFigures> v;

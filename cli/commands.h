@@ -17,6 +17,8 @@ void add_estimate(CLI::App& app);
 void add_evaluate(CLI::App& app);
 void add_lens(CLI::App& app);
 void add_bench(CLI::App& app);
+// `skypol bench --rays`: the camera-ray table (cli/bench_rays.cpp); scenes_dir holds calibrations/.
+void print_rays_bench(const std::string& scenes_dir, int repeats);
 void add_sweep(CLI::App& app);
 void add_bench_occluders(CLI::App& app);
 void add_preview(CLI::App& app);
