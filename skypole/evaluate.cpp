@@ -89,14 +89,18 @@ PoleEstimate run_bare(const stack::Stack& stack, std::string_view method, const 
                               "\" (expected one of " + legal + ")");
 }
 
+// √(χ²₂(0.999) / χ²₂(0.95)) = √(13.8155 / 5.99146).
+constexpr double kAgreeScale = 1.5185;
+
 double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
   return tangent_offset(a, b).norm() * 180.0 / 3.14159265358979323846;
 }
 
 }  // namespace
 
-bool used_by_auto(std::string_view method) {
-  return method != "sun_vector_ephemeris" && method != "auto";
+bool used_by_auto(std::string_view method, bool site_known) {
+  if (method == "auto") return false;
+  return method != "sun_vector_ephemeris" || site_known;
 }
 
 PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& input,
@@ -104,11 +108,10 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
   std::vector<PoleEstimate> all;
   double total_seconds = 0;
   for (const PoleEstimate& e : estimates)
-    if (used_by_auto(e.method)) {
+    if (used_by_auto(e.method, stack.site_known)) {
       all.push_back(e);
       total_seconds += e.seconds;
     }
-  const auto seconds = [&] { return total_seconds; };
   std::vector<const PoleEstimate*> valid;
   std::string declined;
   for (const PoleEstimate& e : all) {
@@ -119,15 +122,18 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
   }
   PoleEstimate out;
   out.method = "auto";
+  out.seconds = total_seconds;
   if (valid.empty()) {
     out.why_invalid = "no method could answer (" + declined + ")";
-    out.seconds = seconds();
     return out;
   }
-  // Two answers agree when they are within the root-sum-square of their 95 % cones. The centre is
-  // the answer with the most agreeing others (ties: the narrowest cone).
+  // Two answers agree unless they are apart by more than the 99.9 % level of their combined
+  // uncertainty (√χ²₂(0.999) = 3.72 σ against the 95 % cone's 2.45 σ: the root-sum-square of their
+  // 95 % cones × 1.52); at the 95 % level one answer in ten of two calibrated methods would be
+  // called a disagreement by chance. The centre is the answer with the most agreeing others
+  // (ties: the narrowest cone).
   const auto agree = [](const PoleEstimate& a, const PoleEstimate& b) {
-    return angle_deg(a, b) <= std::hypot(a.cone95_deg, b.cone95_deg);
+    return angle_deg(a, b) <= kAgreeScale * std::hypot(a.cone95_deg, b.cone95_deg);
   };
   const PoleEstimate* centre = nullptr;
   std::size_t best = 0;
@@ -152,47 +158,27 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
       if (b != centre) who += (who.empty() ? "" : "; ") + std::string(buf);
     }
     out.why_invalid = "the methods disagree beyond their 95 % cones: " + who;
-    out.seconds = seconds();
     return out;
   }
-  // Inverse-variance mean in the tangent plane at the centre. The methods read the same frames, so
-  // their errors are correlated: the result keeps the narrowest member's uncertainty, never less.
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  double wsum = 0;
+  // The answer is the agreeing member with the smallest calibrated σ, as it stands (its pole and
+  // its uncertainty). The methods read the same frames, so their errors are correlated: an average
+  // would claim an independence they do not have, and the calibration study measured each
+  // method's σ, not a mixture's.
   const PoleEstimate* sharpest = members.front();
-  for (const PoleEstimate* b : members) {
-    const double s = std::max(b->sigma_deg, 1e-6);
-    const double w = 1.0 / (s * s);
-    sum += w * tangent_offset(*centre, *b);
-    wsum += w;
-    if (b->cone95_deg < sharpest->cone95_deg) sharpest = b;
-  }
-  const Eigen::Vector2d d = sum / wsum;
-  // Back from the tangent plane (axes: azimuth, altitude at the centre's pole) to a direction.
-  const Eigen::Vector3d p = centre->pole_level.normalized();
-  const double horiz = std::hypot(p.x(), p.y());
-  const double az = horiz > 1e-12 ? std::atan2(p.x(), p.y()) : 0.0;
-  const double el = std::atan2(p.z(), horiz);
-  const Eigen::Vector3d e_az(std::cos(az), -std::sin(az), 0.0);
-  const Eigen::Vector3d e_alt(-std::sin(el) * std::sin(az), -std::sin(el) * std::cos(az), std::cos(el));
-  const Eigen::Vector3d v = d.x() * e_az + d.y() * e_alt;
-  const double theta = v.norm();
-  const Eigen::Vector3d q = theta > 0 ? Eigen::Vector3d(std::cos(theta) * p + std::sin(theta) * v / theta) : p;
-  const Eigen::Vector3d ncp_level = centre->is_north ? q : Eigen::Vector3d(-q);
-  const SkyImages sky = prepare_sky_images(stack, input, 1, "auto");
-  out = make_estimate("auto", sky, sky.level_from_camera.transpose() * ncp_level, input);
-  out.residual_deg = sharpest->residual_deg;
-  out.sigma_bearing_deg = sharpest->sigma_bearing_deg;
-  out.sigma_latitude_deg = sharpest->sigma_latitude_deg;
-  out.sigma_deg = sharpest->sigma_deg;
-  out.cone95_deg = sharpest->cone95_deg;
+  for (const PoleEstimate* b : members)
+    if (b->sigma_deg < sharpest->sigma_deg) sharpest = b;
+  out = *sharpest;
+  out.method = "auto";
+  out.seconds = total_seconds;
   std::string used, others;
-  for (const PoleEstimate* b : members) used += (used.empty() ? "" : ", ") + b->method;
+  for (const PoleEstimate* b : members)
+    if (b != sharpest) used += ", " + b->method;
   for (const PoleEstimate* b : dissent) others += (others.empty() ? "" : ", ") + b->method;
-  const std::string note = "combined: " + used + (others.empty() ? "" : "; outvoted: " + others) +
+  const std::string note = "answer of " + sharpest->method + " (smallest σ" +
+                           (used.empty() ? "" : ", agreeing with " + used.substr(2)) + ")" +
+                           (others.empty() ? "" : "; outvoted: " + others) +
                            (declined.empty() ? "" : "; declined: " + declined);
-  out.note = out.note.empty() ? note : out.note + "; " + note;
-  out.seconds = seconds();
+  out.note = sharpest->note.empty() ? note : note + "; " + sharpest->note;
   apply_uncertainty_bound(out, input.max_uncertainty_deg);
   return out;
 }
@@ -202,7 +188,7 @@ namespace {
 PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
   std::vector<PoleEstimate> all;
   for (const std::string& m : method_names()) {
-    if (!used_by_auto(m)) continue;
+    if (!used_by_auto(m, stack.site_known)) continue;
     PoleEstimate e;
     try {
       e = run_method(stack, m, input);
@@ -287,6 +273,20 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
                     100.0 * share, 100.0 * c.max_unpolarized_share);
       e.valid = false;
       e.why_invalid = buf;
+      return;
+    }
+  }
+  if (std::isfinite(c.max_ring_anisotropy)) {
+    const double a = ring_anisotropy(prepare_sky_images(stack, input, 1, e.method));
+    if (a > c.max_ring_anisotropy) {
+      std::snprintf(buf, sizeof buf,
+                    "the sky is not the single-scattering shape this method assumes: around the sun its DoLP "
+                    "varies by %.0f %% of its range at equal angle from it (neutral points moved by multiple "
+                    "scattering), above the %.0f %% beyond which this method's error was not predictable in the "
+                    "calibration study",
+                    100.0 * a, 100.0 * c.max_ring_anisotropy);
+      e.valid = false;
+      e.why_invalid = buf;
     }
   }
 }
@@ -327,7 +327,12 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   apply_gates(e, cal, stack, input);
   if (!e.valid) return e;
   o.inflation = input.calibrated ? cal.inflation : 1.0;
-  o.floor_deg = input.calibrated ? std::hypot(cal.floor_deg, cal.residual_share * e.residual_deg) : 0.05;
+  // The residual term counts only the part of the residual beyond what the pixel grid itself
+  // imposes (classic's blob is a few pixels wide at any resolution: that much says nothing of its
+  // error, and at binning 16 a pixel is 1.5°).
+  const double residual_excess =
+      std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
+  o.floor_deg = input.calibrated ? std::hypot(cal.floor_deg, cal.residual_share * residual_excess) : 0.05;
   if (cl) {
     jackknife_uncertainty(
         e, static_cast<int>(stack.frames.size()),
