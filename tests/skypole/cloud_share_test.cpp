@@ -71,3 +71,22 @@ TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, an
   }
   CHECK(gated >= 3);  // great_circle, invariance, sun_vector, sun_vector_ephemeris answer it ungated
 }
+
+TEST_CASE("ring anisotropy: a Rayleigh sky is a function of the angle to the sun, Berry's neutral points are not",
+          "[skypole][cloud][berry]") {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.size = 128;
+  spec.heading_deg = 30;
+  spec.max_dolp = 0.7;
+  const double rayleigh = skypole::ring_anisotropy(skypole::prepare_sky_images(testing::make_stack(spec), {}, 1, "test"));
+  spec.sky_model = "berry";
+  const double berry = skypole::ring_anisotropy(skypole::prepare_sky_images(testing::make_stack(spec), {}, 1, "test"));
+  INFO("rayleigh " << rayleigh << ", berry " << berry);
+  // Rayleigh: only the pixel grid and the found sun's offset from the true one spread the ring.
+  CHECK(rayleigh < 0.05);
+  // Berry: the lowest DoLP is a neutral point 20° from the sun; on the ring 15–35° around it lie
+  // the sun's side (DoLP ≈ 0.05–0.15 of the range) and the far side (up to ≈ 0.3).
+  CHECK(berry > 3 * rayleigh);
+  CHECK(berry > 0.1);
+}

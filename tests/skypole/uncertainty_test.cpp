@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <numbers>
 
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
@@ -195,4 +196,15 @@ TEST_CASE("auto returns the agreeing answer with the smallest sigma and says whi
     CHECK_FALSE(d.valid);
     CHECK_THAT(d.why_invalid, Catch::Contains("no method could answer") && Catch::Contains("great_circle: test"));
   }
+}
+
+TEST_CASE("pixel_angle_deg is 1/fx radians for an equidistant lens", "[skypole][uncertainty]") {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.size = 96;
+  const stack::Stack stack = testing::make_stack(spec);
+  // synthetic_stack: fx = size/2 / θmax, θmax = 92.5°; equidistant: r = fx·θ, so one pixel from
+  // the principal point is 1/fx rad.
+  const double fx = 0.5 * 96 / (92.5 * std::numbers::pi / 180);
+  CHECK(skypole::pixel_angle_deg(*stack.camera) == Approx(180 / std::numbers::pi / fx).epsilon(1e-9));
 }
