@@ -33,6 +33,8 @@ void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& whi
   meta.row().set("key", "count").set("value", o.count);
   meta.row().set("key", "binning").set("value", o.binning);
   meta.row().set("key", "uncalibrated").set("value", o.uncalibrated);
+  meta.row().set("key", "no_cloud_gate").set("value", o.no_cloud_gate);
+  meta.row().set("key", "no_sky_mask").set("value", o.no_sky_mask);
   meta.row().set("key", "threads").set("value", tbb::info::default_concurrency());
   meta.row().set("key", "compiler").set("value", std::string("GCC ") + __VERSION__);
 #ifdef __OPTIMIZE__
@@ -73,6 +75,10 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_flag("--progress", a->options.progress, "calibration: report each scene on stderr");
   cmd->add_flag("--uncalibrated", a->options.uncalibrated,
                 "calibration: σ without the methods' calibration factors (to measure them)");
+  cmd->add_flag("--no-cloud-gate", a->options.no_cloud_gate,
+                "calibration: without the whole-sky cloud gate (skypole/cloud_share.h)");
+  cmd->add_flag("--no-sky-mask", a->options.no_sky_mask,
+                "calibration: the methods fit every sky pixel (no per-pixel mask, skypole/sky_mask.h)");
   cmd->callback([a] {
     std::vector<const studies::tradeoff::Study*> run;
     for (const studies::tradeoff::Study& s : studies::tradeoff::studies())

@@ -76,6 +76,12 @@ struct InputOptions {
   // false: the jackknife's σ as measured, without the method's calibration factor
   // (method_calibrations(), evaluate.h) — what the calibration study measures the factors from.
   bool calibrated = true;
+  // false: skip the calibration's whole-sky cloud gate (cloud_share.h), to measure what the
+  // methods do under cloud on their own (`tradeoff calibration --no-cloud-gate`).
+  bool cloud_gate = true;
+  // false: the methods fit every sky pixel, without the per-pixel sky mask (sky_mask.h); for
+  // before/after measurements (`--no-sky-mask`). classic never uses the mask.
+  bool sky_mask = true;
 };
 
 struct PoleEstimate {

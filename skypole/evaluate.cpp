@@ -267,7 +267,7 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
     e.why_invalid = buf;
     return;
   }
-  if (std::isfinite(c.max_unpolarized_share)) {
+  if (input.cloud_gate && std::isfinite(c.max_unpolarized_share)) {
     const double share = unpolarized_share(prepare_sky_images(stack, input, 1, e.method));
     if (share > c.max_unpolarized_share) {
       std::snprintf(buf, sizeof buf,

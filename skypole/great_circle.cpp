@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "skypole/enum_names.h"
+#include "skypole/sky_mask.h"
 
 namespace skypol::skypole {
 namespace {
@@ -328,6 +329,7 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
       params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
   GreatCirclePairs out;
   out.sky = prepare_sky_images(stack, params.input, min_frames, method);
+  if (params.input.sky_mask) apply_sky_mask(out.sky, stack);
   const SkyImages& sky = out.sky;
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
@@ -384,13 +386,18 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
     cp.radial_points = radial.inliers;
     cp.plane_points = plane.inliers;
     cp.radial_rms_deg = radial.rms / kDeg;
-    if (params.sun_exclusion_deg > 0) {
+    // The largest exclusion (the given one, then 2/3 and 1/3 of it) that leaves enough of the
+    // circle; a view of little but the sun's side of the sky (the pole outside the field of view)
+    // keeps the fit on every crossing.
+    for (const double share : {1.0, 2.0 / 3.0, 1.0 / 3.0}) {
+      if (!(params.sun_exclusion_deg > 0)) break;
       const auto away = refit_away_from_sun(pts, radial.n, plane.n, hyp.plane_normal,
-                                            params.sun_exclusion_deg * kDeg, params.min_points);
-      if (!away) return;  // too little of the circle away from the sun: the pair is not used
+                                            share * params.sun_exclusion_deg * kDeg, params.min_points);
+      if (!away) continue;
       cp.radial_normal = away->n.dot(hyp.radial_normal) < 0 ? Eigen::Vector3d(-away->n) : away->n;
       cp.radial_points = away->inliers;
       cp.radial_rms_deg = away->rms / kDeg;
+      break;
     }
     cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
     cp.hypothesis_ratio = hyp.ratio;

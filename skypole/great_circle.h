@@ -65,7 +65,9 @@ struct GreatCircleParams {
   // bisector and its antipode (0: not refitted). A real sky's neutral points, 15–25° from the
   // sun and the antisun, bend the equal-DoLP set well beyond them (on Berry's sky the error fell
   // from 0.92° to 0.51°, 0.33°, 0.24° for 0°, 40°, 60°, 70°: great_circle_test); the pole is
-  // 66–114° from the sun, so 60° keeps the part of each circle that passes it.
+  // 66–114° from the sun, so 60° keeps the part of each circle that passes it. When fewer than
+  // min_points crossings remain, 2/3 and 1/3 of it are tried, then every crossing (a camera that
+  // sees little but the sun's side of the sky).
   double sun_exclusion_deg = 60;
   DriftModel drift = DriftModel::automatic;
   // automatic: fit the drift when ≥ 4 pairs are kept and their radial normals span ≥ this arc

@@ -13,6 +13,7 @@
 
 #include "sky/sun.h"
 #include "skypole/enum_names.h"
+#include "skypole/sky_mask.h"
 #include "skypole/invariance_refine.h"
 
 namespace skypol::skypole {
@@ -97,7 +98,8 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   if (!(params.corotating_min_radius_deg > 0 && params.corotating_min_radius_deg <= params.corotating_radius_deg &&
         params.corotating_radius_deg < 60))
     throw std::invalid_argument("invariance: need 0 < corotating_min_radius_deg <= corotating_radius_deg < 60");
-  const SkyImages sky = prepare_sky_images(stack, params.input, 3, method);
+  SkyImages sky = prepare_sky_images(stack, params.input, 3, method);
+  if (params.input.sky_mask) apply_sky_mask(sky, stack);
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
   const double fit_radius = params.fit_radius_px.value_or(

@@ -13,6 +13,7 @@
 #include "camera/camera.h"
 #include "sky/sun.h"
 #include "skypole/enum_names.h"
+#include "skypole/sky_mask.h"
 
 namespace skypol::skypole {
 namespace {
@@ -33,7 +34,7 @@ std::string_view sun_source_name(SunSource s) { return enum_name(kSunSourceNames
 
 std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const Eigen::Vector3d& start, double* pmax,
-                                             double* rms) {
+                                             double* rms, bool robust) {
   // Pixels used: every valid one, thinned to ≤ ~60k on a regular stride.
   const int stride = std::max(
       1, static_cast<int>(std::floor(std::sqrt(static_cast<double>(sky.valid_count) / 60000.0))));
@@ -50,6 +51,30 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
   if (d.size() < 20) return std::nullopt;
   Eigen::Vector3d s = start.normalized();
   double p = 0.7, sse = 0;
+  // Fit, then refit twice without the pixels the fit misses by more than 3 robust σ (at least
+  // kMinCut of DoLP): cloud lowers DoLP, and a least-squares fit would bend the sun towards it.
+  constexpr double kMinCut = 0.005;
+  const std::vector<Eigen::Vector3d> d_all = d;
+  const std::vector<double> v_all = v;
+  for (int round = 0; round < (robust ? 3 : 1); ++round) {
+  if (round > 0) {
+    std::vector<double> r(d_all.size());
+    for (std::size_t k = 0; k < d_all.size(); ++k) {
+      const double c = s.dot(d_all[k]);
+      r[k] = std::abs(p * (1 - c * c) / (1 + c * c) - v_all[k]);
+    }
+    std::vector<double> sorted = r;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double cut = std::max(kMinCut, 3 * 1.4826 * sorted[sorted.size() / 2]);
+    d.clear();
+    v.clear();
+    for (std::size_t k = 0; k < d_all.size(); ++k)
+      if (r[k] <= cut) {
+        d.push_back(d_all[k]);
+        v.push_back(v_all[k]);
+      }
+    if (d.size() < 20) return std::nullopt;
+  }
   for (int it = 0; it < 30; ++it) {
     const Eigen::Vector3d e1 = s.unitOrthogonal(), e2 = s.cross(e1);
     // Variable projection: Pmax by least squares for this s, then a Gauss–Newton step in s.
@@ -80,6 +105,7 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
     s = (s + scale * (step(0) * e1 + step(1) * e2)).normalized();
     if (len < 1e-12) break;
   }
+  }
   if ((sky.level_from_camera * s).z() < 0) s = -s;
   if (pmax) *pmax = p;
   if (rms) *rms = std::sqrt(sse / static_cast<double>(d.size()));
@@ -89,33 +115,47 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
                                              const camera::Camera& camera, double min_dolp,
-                                             double* quality) {
-  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-  int used = 0;
-  const bool meridional = camera.transport() == camera::Transport::meridional;
+                                             double* quality, bool robust) {
+  std::vector<Eigen::Vector3d> es;
+  std::vector<double> ws;
   for (std::size_t i = 0; i < sky.pixels(); ++i) {
     if (!sky.valid[i]) continue;
     const double p = dolp[i];
     if (!(p >= min_dolp) || !std::isfinite(aolp[i])) continue;
-    const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
-    const double a = aolp[i];
-    Eigen::Vector3d e;
-    if (meridional) {
-      const Eigen::Vector3d e0 = camera::meridional_e0(d);
-      e = std::cos(a) * e0 + std::sin(a) * d.cross(e0);
-    } else {
-      if (std::abs(d.z()) < 1e-3) continue;  // E along the axis: the sensor angle says nothing
-      e = Eigen::Vector3d(std::cos(a), std::sin(a), -(std::cos(a) * d.x() + std::sin(a) * d.y()) / d.z());
-      e.normalize();
-    }
-    c += p * p * e * e.transpose();
-    ++used;
+    const auto e = e_vector(to_double(sky.ray_camera[i]), aolp[i], camera.transport());
+    if (!e) continue;
+    es.push_back(*e);
+    ws.push_back(p * p);
   }
-  if (used < 10) return std::nullopt;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(c);
-  Eigen::Vector3d s = es.eigenvectors().col(0).normalized();
+  if (es.size() < 10) return std::nullopt;
+  // Fit, then refit without the E-vectors farther out of the plane ⟂ s than 3 robust σ (at least
+  // kMinCutDeg): pixels whose AoLP no sun explains (cloud, glare, a neutral point) stop pulling.
+  constexpr double kMinCutDeg = 0.5;
+  std::vector<std::uint8_t> use(es.size(), 1);
+  Eigen::Vector3d s;
+  Eigen::Vector3d lambda;
+  for (int round = 0; round < (robust ? 3 : 1); ++round) {
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    int used = 0;
+    for (std::size_t k = 0; k < es.size(); ++k)
+      if (use[k]) {
+        c += ws[k] * es[k] * es[k].transpose();
+        ++used;
+      }
+    if (used < 10) return std::nullopt;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(c);
+    s = eig.eigenvectors().col(0).normalized();
+    lambda = eig.eigenvalues();
+    if (round == 2 || !robust) break;
+    std::vector<double> r(es.size());
+    for (std::size_t k = 0; k < es.size(); ++k) r[k] = std::abs(es[k].dot(s));
+    std::vector<double> sorted = r;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double cut = std::max(std::sin(kMinCutDeg * kDeg), 3 * 1.4826 * sorted[sorted.size() / 2]);
+    for (std::size_t k = 0; k < es.size(); ++k) use[k] = r[k] <= cut ? 1 : 0;
+  }
   if ((sky.level_from_camera * s).z() < 0) s = -s;
-  if (quality) *quality = es.eigenvalues()(1) > 0 ? es.eigenvalues()(0) / es.eigenvalues()(1) : 1.0;
+  if (quality) *quality = lambda(1) > 0 ? lambda(0) / lambda(1) : 1.0;
   return s;
 }
 
@@ -123,13 +163,19 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
-  const SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
+  SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
+  // The Rayleigh fits start at the lowest DoLP of the unmasked sky, or better at the suns the mask
+  // judged by: a cloud over the sun would leave the masked sky without a sun-like minimum.
+  std::vector<std::optional<Eigen::Vector3d>> starts;
+  if (params.source == SunSource::dolp)
+    starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
+  if (params.input.sky_mask) {
+    const SkyMask mask = apply_sky_mask(sky, stack);
+    for (std::size_t t = 0; t < starts.size(); ++t)
+      if (mask.suns[t]) starts[t] = mask.suns[t];
+  }
   const auto aolp = params.source == SunSource::aolp ? aolp_channels(stack, sky, method)
                                                      : std::vector<std::vector<float>>{};
-  std::vector<std::optional<Eigen::Vector3d>> starts;
-  if (params.source == SunSource::dolp) {
-    starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
-  }
   SunVectorResult result;
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -145,9 +191,10 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   std::vector<double> quality(sky.frames(), 1.0);
   tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
     if (params.source == SunSource::aolp)
-      suns[t] = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &quality[t]);
+      suns[t] = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &quality[t],
+                              params.input.sky_mask);
     else if (starts[t])
-      suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &quality[t]);
+      suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &quality[t], params.input.sky_mask);
   });
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     if (!suns[t]) {

@@ -64,17 +64,19 @@ struct SunVectorResult {
   std::vector<double> sun_quality;           // aolp: λ0/λ1; dolp: DoLP RMS residual (small = clear)
 };
 
+// robust (the default; InputOptions::sky_mask turns it off for before/after measurements): fit,
+// drop the pixels the fit misses by more than 3 robust σ (1.4826·median |residual|), refit twice.
 // The sun in one frame from its AoLP (see above); nullopt if too few polarized pixels.
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
                                              const camera::Camera& camera, double min_dolp,
-                                             double* quality = nullptr);
+                                             double* quality = nullptr, bool robust = true);
 
 // The sun in one frame from a Rayleigh fit of its DoLP, started at `start`; nullopt if the fit
 // fails. pmax receives the fitted Pmax, rms the DoLP residual.
 std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const Eigen::Vector3d& start, double* pmax = nullptr,
-                                             double* rms = nullptr);
+                                             double* rms = nullptr, bool robust = true);
 
 // SunSource::aolp needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params = {});

@@ -245,6 +245,8 @@ void study_calibration(const StudyOptions& o) {
   skypole::InputOptions input;
   input.max_uncertainty_deg = o.max_uncertainty_deg;
   input.calibrated = !o.uncalibrated;
+  input.cloud_gate = !o.no_cloud_gate;
+  input.sky_mask = !o.no_sky_mask;
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);
     const stack::Stack stack = render_draw(d, binning);

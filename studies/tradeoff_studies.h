@@ -26,6 +26,9 @@ struct StudyOptions {
   bool progress = false;
   // calibration: state the methods' σ without their calibration factors (to measure them).
   bool uncalibrated = false;
+  // calibration: without the whole-sky cloud gate / without the per-pixel sky mask (before/after).
+  bool no_cloud_gate = false;
+  bool no_sky_mask = false;
 };
 
 struct Study {
