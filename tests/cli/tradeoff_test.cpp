@@ -356,6 +356,35 @@ TEST_CASE("skypol tradeoff calibration --small: one row per scene and method, a 
     CHECK(num(r, "yield") == Approx(valid[m] / 6.0).epsilon(1e-5));
     if (valid[m] > 0) CHECK(num(r, "coverage") == Approx(static_cast<double>(inside[m]) / valid[m]).epsilon(1e-5));
   }
+  // Per sky model: the rows of each method add up to its summary row, and each sky's stacks are the
+  // scenes drawn with that sky.
+  std::map<std::string, int> sky_stacks;
+  for (std::size_t i = 0; i < t.rows.size(); i += kMethods.size()) ++sky_stacks[t.rows[i].at("sky")];
+  const Csv by_sky = read_csv(out / "calibration_by_sky.csv");
+  REQUIRE(by_sky.rows.size() == 3 * kMethods.size());  // rayleigh, berry, vrte
+  std::map<std::string, int> stacks_sum, valid_sum, lies_sum;
+  for (const auto& r : by_sky.rows) {
+    CHECK(num(r, "stacks") == sky_stacks[r.at("sky")]);
+    stacks_sum[r.at("method")] += static_cast<int>(num(r, "stacks"));
+    valid_sum[r.at("method")] += static_cast<int>(num(r, "valid"));
+    lies_sum[r.at("method")] += static_cast<int>(num(r, "lies"));
+  }
+  for (const std::string& m : kMethods) {
+    INFO(m);
+    CHECK(stacks_sum[m] == 6);
+    CHECK(valid_sum[m] == valid[m]);
+    CHECK(lies_sum[m] == lies[m]);
+  }
+  // auto against each method: the scenes both answer, plus those only one answers, are each
+  // side's valid count.
+  const Csv common = read_csv(out / "calibration_auto.csv");
+  REQUIRE(common.rows.size() == kMethods.size() - 1);
+  for (const auto& r : common.rows) {
+    const std::string& m = r.at("method");
+    INFO(m);
+    CHECK(num(r, "common") + num(r, "method_only") == valid[m]);
+    CHECK(num(r, "common") + num(r, "auto_only") == valid["auto"]);
+  }
 }
 
 TEST_CASE("skypol tradeoff refuses an unknown study and writes nothing", "[cli][tradeoff]") {
