@@ -57,54 +57,54 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
   const std::vector<Eigen::Vector3d> d_all = d;
   const std::vector<double> v_all = v;
   for (int round = 0; round < (robust ? 3 : 1); ++round) {
-  if (round > 0) {
-    std::vector<double> r(d_all.size());
-    for (std::size_t k = 0; k < d_all.size(); ++k) {
-      const double c = s.dot(d_all[k]);
-      r[k] = std::abs(p * (1 - c * c) / (1 + c * c) - v_all[k]);
-    }
-    std::vector<double> sorted = r;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double cut = std::max(kMinCut, 3 * 1.4826 * sorted[sorted.size() / 2]);
-    d.clear();
-    v.clear();
-    for (std::size_t k = 0; k < d_all.size(); ++k)
-      if (r[k] <= cut) {
-        d.push_back(d_all[k]);
-        v.push_back(v_all[k]);
+    if (round > 0) {
+      std::vector<double> r(d_all.size());
+      for (std::size_t k = 0; k < d_all.size(); ++k) {
+        const double c = s.dot(d_all[k]);
+        r[k] = std::abs(p * (1 - c * c) / (1 + c * c) - v_all[k]);
       }
-    if (d.size() < 20) return std::nullopt;
-  }
-  for (int it = 0; it < 30; ++it) {
-    const Eigen::Vector3d e1 = s.unitOrthogonal(), e2 = s.cross(e1);
-    // Variable projection: Pmax by least squares for this s, then a Gauss–Newton step in s.
-    double sgg = 0, sdg = 0;
-    for (std::size_t k = 0; k < d.size(); ++k) {
-      const double c = s.dot(d[k]), g = (1 - c * c) / (1 + c * c);
-      sgg += g * g;
-      sdg += g * v[k];
+      std::vector<double> sorted = r;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+      const double cut = std::max(kMinCut, 3 * 1.4826 * sorted[sorted.size() / 2]);
+      d.clear();
+      v.clear();
+      for (std::size_t k = 0; k < d_all.size(); ++k)
+        if (r[k] <= cut) {
+          d.push_back(d_all[k]);
+          v.push_back(v_all[k]);
+        }
+      if (d.size() < 20) return std::nullopt;
     }
-    if (!(sgg > 0)) return std::nullopt;
-    p = sdg / sgg;
-    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
-    sse = 0;
-    for (std::size_t k = 0; k < d.size(); ++k) {
-      const double c = s.dot(d[k]), c2 = c * c, g = (1 - c2) / (1 + c2);
-      const double dg = -4 * c / ((1 + c2) * (1 + c2));
-      const double r = p * g - v[k];
-      const Eigen::Vector3d j(p * dg * d[k].dot(e1), p * dg * d[k].dot(e2), g);
-      jtj += j * j.transpose();
-      jtr += j * r;
-      sse += r * r;
+    for (int it = 0; it < 30; ++it) {
+      const Eigen::Vector3d e1 = s.unitOrthogonal(), e2 = s.cross(e1);
+      // Variable projection: Pmax by least squares for this s, then a Gauss–Newton step in s.
+      double sgg = 0, sdg = 0;
+      for (std::size_t k = 0; k < d.size(); ++k) {
+        const double c = s.dot(d[k]), g = (1 - c * c) / (1 + c * c);
+        sgg += g * g;
+        sdg += g * v[k];
+      }
+      if (!(sgg > 0)) return std::nullopt;
+      p = sdg / sgg;
+      Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+      sse = 0;
+      for (std::size_t k = 0; k < d.size(); ++k) {
+        const double c = s.dot(d[k]), c2 = c * c, g = (1 - c2) / (1 + c2);
+        const double dg = -4 * c / ((1 + c2) * (1 + c2));
+        const double r = p * g - v[k];
+        const Eigen::Vector3d j(p * dg * d[k].dot(e1), p * dg * d[k].dot(e2), g);
+        jtj += j * j.transpose();
+        jtr += j * r;
+        sse += r * r;
+      }
+      const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
+      if (!step.allFinite()) return std::nullopt;
+      const double len = std::hypot(step(0), step(1));
+      const double scale = len > 0.1 ? 0.1 / len : 1.0;  // at most ~6° per step
+      s = (s + scale * (step(0) * e1 + step(1) * e2)).normalized();
+      if (len < 1e-12) break;
     }
-    const Eigen::Vector3d step = -jtj.ldlt().solve(jtr);
-    if (!step.allFinite()) return std::nullopt;
-    const double len = std::hypot(step(0), step(1));
-    const double scale = len > 0.1 ? 0.1 / len : 1.0;  // at most ~6° per step
-    s = (s + scale * (step(0) * e1 + step(1) * e2)).normalized();
-    if (len < 1e-12) break;
-  }
   }
   if ((sky.level_from_camera * s).z() < 0) s = -s;
   if (pmax) *pmax = p;
