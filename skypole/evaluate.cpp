@@ -237,11 +237,9 @@ const std::vector<MethodCalibration>& method_calibrations() {
   return c;
 }
 
-namespace {
-
 // The calibration's gates (method_calibrations()): decline, with the numbers, where the study
 // found the method's error unpredictable.
-void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack, const InputOptions& input) {
+void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack, const InputOptions& input) {
   if (!e.valid || !input.calibrated) return;
   char buf[640];
   if (e.residual_deg > c.max_residual_deg) {
@@ -293,7 +291,6 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
   }
 }
 
-}  // namespace
 
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input, ClassicImages* classic_images) {
@@ -326,7 +323,7 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   MethodCalibration cal;
   for (const MethodCalibration& c : method_calibrations())
     if (c.method == method) cal = c;
-  apply_gates(e, cal, stack, input);
+  apply_calibration_gates(e, cal, stack, input);
   if (!e.valid) return e;
   o.inflation = input.calibrated ? cal.inflation : 1.0;
   // The residual term counts only the part of the residual beyond what the pixel grid itself

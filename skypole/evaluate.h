@@ -69,6 +69,11 @@ struct MethodCalibration {
 };
 const std::vector<MethodCalibration>& method_calibrations();
 
+// The gates of `c` on a valid answer `e` of a method on `stack` (run_method applies its own
+// method's): declines `e` with the gate's reason and numbers. Nothing when !input.calibrated.
+void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack,
+                             const InputOptions& input);
+
 struct EvaluationRow {
   std::string dataset;    // e.g. the stack's file name
   PoleEstimate estimate;  // estimate.method names the method
