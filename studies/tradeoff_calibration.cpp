@@ -1,14 +1,17 @@
 // Study: are the stated uncertainties honest? A seeded random population of scenes unlike the
 // shipped ones — sites from −70° to 70° latitude, dates through the year, windows of 20 min to
 // 11 h with a frame every 2–30 min, any heading, tilts up to 15°, every analytic lens model, the
-// mono or colour DoFP sensor at various exposures and gains (or none), 0–50 % cloud, the Rayleigh
-// and Berry skies — each rendered small (binning 8: 306×256; --small: binning 16, 153×128) and
+// mono or colour DoFP sensor at various exposures and gains (or none), 0–50 % cloud, the Rayleigh,
+// Berry and multiple-scattering (vrte: a few atmospheres, tables from the disk cache) skies —
+// each rendered small (binning 8: 306×256; --small: binning 16, 153×128) and
 // given to every method and to auto, with --max-uncertainty (default 5°: StudyOptions). Per stack and method: the error against the truth, the
 // stated σ and 95 % cone. Per method: the yield (share of valid answers), the lie rate (valid
 // with error > 5°, or > 5σ), the coverage (share of valid answers whose 95 % cone holds the
 // truth), the error distribution, and the σ factor that would have made the coverage exactly
-// 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seed 1; the checks in
-// docs/benchmarks.md use seed 2).
+// 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seed 1, with
+// scripts/calibration_tune.py; the checks in docs/benchmarks.md use seeds 2 and 3). The same per
+// sky model (calibration_by_sky.csv), and auto against each method on the scenes both answer
+// (calibration_auto.csv).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
