@@ -74,6 +74,13 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
     const skypole::PoleEstimate e = skypole::run_method(stack, m);
     INFO(m << ": " << e.why_invalid << " " << e.note);
     if (m == "classic" && !e.valid) continue;  // the paper's method may decline; never lie
+    // great_circle's calibration keeps only fits with a residual under 0.05° (the multiple-
+    // scattering sky's biased fits look like noisy Rayleigh ones above it): on this noisy day its
+    // residual is 0.13°, so it declines, for that reason.
+    if (m == "great_circle" && !e.valid) {
+      CHECK_THAT(e.why_invalid, Catch::Contains("the fit's residual"));
+      continue;
+    }
     REQUIRE(e.valid);
     const skypole::Score s = skypole::score(e, stack.frames.front().truth);
     std::cout << m << ": error " << s.angular_error_deg << "°, cone95 " << e.cone95_deg << "°, σ bearing "
@@ -113,20 +120,22 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
     CHECK_FALSE(e.valid);
     CHECK_THAT(e.why_invalid, Catch::Contains("too few frames to measure the uncertainty"));
   }
-  SECTION("a window shorter than the calibration found reliable: declined for the window, not the field of view") {
-    // 40 min, clean: sun_vector and sun_dolp would answer, but the calibration study found their
-    // errors unpredictable under 2 h and 1 h (evaluate.cpp); uncalibrated, the gates do not apply.
+  SECTION("a window shorter than the calibration's gate: declined for the window, not the field of view") {
+    // 40 min, clean: sun_vector answers; a calibration that found it unpredictable under 2 h
+    // declines it for the window, with the numbers; uncalibrated, the gates do not apply.
     spec.times = testing::times_every("2022-09-23T10:00:00Z", "2022-09-23T10:40:00Z", 10);
     const stack::Stack stack = testing::make_stack(spec);
-    const skypole::PoleEstimate sv = skypole::run_method(stack, "sun_vector");
+    skypole::PoleEstimate sv = skypole::run_method(stack, "sun_vector");
+    REQUIRE(sv.valid);
+    const skypole::MethodCalibration c{.method = "sun_vector", .min_window_min = 120};
+    skypole::apply_calibration_gates(sv, c, stack, {});
     CHECK_FALSE(sv.valid);
     CHECK_THAT(sv.why_invalid, Catch::Contains("window (40 min) is shorter than the 120 min"));
-    const skypole::PoleEstimate sd = skypole::run_method(stack, "sun_dolp");
-    CHECK_FALSE(sd.valid);
-    CHECK_THAT(sd.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
-    skypole::InputOptions raw;
-    raw.calibrated = false;
-    CHECK(skypole::run_method(stack, "sun_vector", raw).valid);
+    skypole::PoleEstimate raw = skypole::run_method(stack, "sun_vector");
+    skypole::InputOptions uncalibrated;
+    uncalibrated.calibrated = false;
+    skypole::apply_calibration_gates(raw, c, stack, uncalibrated);
+    CHECK(raw.valid);
   }
   SECTION("a short noisy window: the jackknife sees the answer move and the cone is wide or the method declines") {
     spec.times = testing::times_every("2022-09-23T11:00:00Z", "2022-09-23T11:20:00Z", 5);
