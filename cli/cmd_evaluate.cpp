@@ -107,7 +107,7 @@ void add_evaluate(CLI::App& app) {
         try {
           const bool reuse = m == "auto" && std::all_of(skypole::method_names().begin(), skypole::method_names().end(),
                                                         [&](const std::string& n) {
-                                                          return !skypole::used_by_auto(n) ||
+                                                          return !skypole::used_by_auto(n, stack.site_known) ||
                                                                  std::any_of(done.begin(), done.end(), [&](const auto& d) {
                                                                    return d.method == n;
                                                                  });

@@ -1,8 +1,11 @@
 // The unpolarized share of the sky (cloud_share.h).
 #include "skypole/cloud_share.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include <Eigen/Geometry>
 
 namespace skypol::skypole {
 
@@ -27,6 +30,47 @@ double unpolarized_share(const SkyImages& sky) {
     total += counted ? static_cast<double>(low) / static_cast<double>(counted) : 0.0;
   }
   return total / static_cast<double>(sky.frames());
+}
+
+double ring_anisotropy(const SkyImages& sky) {
+  if (sky.frames() == 0 || sky.valid_count == 0) return 0.0;
+  const auto suns = find_suns(sky, sky.dolp);
+  constexpr int kSectors = 8;
+  const double cos_in = std::cos(15.0 * std::numbers::pi / 180.0), cos_out = std::cos(35.0 * std::numbers::pi / 180.0);
+  double total = 0;
+  int frames = 0;
+  for (std::size_t f = 0; f < sky.frames(); ++f) {
+    if (!suns[f]) continue;
+    const Eigen::Vector3d s = suns[f]->normalized();
+    const Eigen::Vector3d e1 = s.unitOrthogonal(), e2 = s.cross(e1);
+    const std::vector<float>& img = sky.dolp[f];
+    double sum[kSectors] = {};
+    int n[kSectors] = {};
+    for (std::size_t i = 0; i < img.size(); ++i) {
+      if (!sky.valid[i]) continue;
+      const Eigen::Vector3d d = sky.ray_camera[i].cast<double>();
+      const double c = d.dot(s);
+      if (c > cos_in || c < cos_out) continue;
+      const double psi = std::atan2(d.dot(e2), d.dot(e1)) + std::numbers::pi;  // [0, 2π]
+      const int k = std::min(kSectors - 1, static_cast<int>(psi / (2 * std::numbers::pi) * kSectors));
+      sum[k] += static_cast<double>(img[i]);
+      ++n[k];
+    }
+    double lo = 1e30, hi = -1e30;
+    int used = 0;
+    for (int k = 0; k < kSectors; ++k) {
+      if (n[k] < 5) continue;
+      const double m = sum[k] / n[k];
+      lo = std::min(lo, m);
+      hi = std::max(hi, m);
+      ++used;
+    }
+    const double p99 = static_cast<double>(valid_quantile(img, sky, 0.99));
+    if (used < 4 || !(p99 > 0)) continue;
+    total += (hi - lo) / p99;
+    ++frames;
+  }
+  return frames ? total / frames : 0.0;
 }
 
 }  // namespace skypol::skypole

@@ -17,4 +17,13 @@ namespace skypol::skypole {
 
 double unpolarized_share(const SkyImages& sky);
 
+// How far the sky's DoLP is from a function of the angle to the sun (Rayleigh's and every
+// single-scattering sky's shape): per frame, around the lowest DoLP above the horizon (find_suns:
+// the sun, or in a real sky a neutral point next to it), the ring 15–35° from it is cut into 8
+// sectors; the spread (largest minus smallest sector mean, sectors with ≥ 5 pixels) over the
+// frame's 99th percentile. Mean over the frames with ≥ 4 such sectors (0 if none). Rayleigh: the
+// noise's (≈ 0); neutral points 15–25° from the sun (Berry's, the multiple-scattering sky's) put
+// a second zero on the ring's solar-vertical side, and so a spread of a large part of the range.
+double ring_anisotropy(const SkyImages& sky);
+
 }  // namespace skypol::skypole

@@ -26,27 +26,29 @@ const std::vector<std::string>& method_names();
 // and declines it, with the numbers, when its 95 % cone is wider than input.max_uncertainty_deg.
 // Throws std::invalid_argument for an unknown name (listing the legal ones) or unusable input.
 //
-// "auto" runs every method that needs no knowledge of the site (all but sun_vector_ephemeris),
-// each as above. Two answers agree when their angle is within the root-sum-square of their 95 %
-// cones; the answer most others agree with is the centre, and the agreeing group is averaged
-// with inverse-variance weights in the tangent plane. The methods read the same frames, so their
-// errors are correlated: the result keeps the narrowest member's uncertainty rather than the
-// smaller one independent errors would give. auto declines when no method answers, or when the
-// agreeing group is no larger than the dissenting answers (the data do not decide); the note
-// names the members, the outvoted and the declined methods with their reasons.
+// "auto" runs every method the stack allows, each as above: sun_vector_ephemeris only when the
+// stack knows its site and times (stack.site_known; an imported capture without [site] does not).
+// Two answers agree when their angle is within the root-sum-square of their 95 % cones; the
+// answer most others agree with is the centre; of the agreeing group, auto returns the answer
+// with the smallest calibrated σ, with that σ (the methods read the same frames, so their errors
+// are correlated and an average would state less uncertainty than the data hold). auto declines
+// when no method answers, or when the agreeing group is no larger than the dissenting answers
+// (the data do not decide); the note names the answer's method, the agreeing, the outvoted and
+// the declined methods with their reasons.
 // classic_images (method "classic" only): filled with classic's step images, from the same run.
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input = {}, ClassicImages* classic_images = nullptr);
 
 // auto's combination of answers already computed by run_method (e.g. by `-m all`), without
-// running anything again; only the methods used_by_auto() are considered.
+// running anything again; only the methods used_by_auto(method, stack.site_known) are considered.
 PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& input,
                                const std::vector<PoleEstimate>& estimates);
-bool used_by_auto(std::string_view method);
+bool used_by_auto(std::string_view method, bool site_known);
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seed 1
 // (docs/benchmarks.md, section 7). The stated σ is
-//     σ² = (inflation·σ_jackknife)² + floor_deg² + (residual_share·residual_deg)²
+//     σ² = (inflation·σ_jackknife)² + floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
+// (pixel: pixel_angle_deg of the stack's camera, uncertainty.h)
 // — the jackknife sees errors that differ between frames, the floor the bias every frame shares
 // (a sky unlike the method's model), the residual term a method whose own fit spreads (classic's
 // blob at low resolution). Gates: where the study found the method's error unpredictable — a fit
@@ -60,8 +62,17 @@ struct MethodCalibration {
   double max_residual_deg = std::numeric_limits<double>::infinity();
   double min_window_min = 0.0;
   double max_unpolarized_share = std::numeric_limits<double>::infinity();
+  double residual_pixels = 0.0;  // the residual term counts residual_deg − this many pixel angles (≥ 0)
+  // Decline a sky whose DoLP is not a function of the angle to the sun beyond this
+  // (ring_anisotropy, skypole/cloud_share.h: neutral points moved by a real sky).
+  double max_ring_anisotropy = std::numeric_limits<double>::infinity();
 };
 const std::vector<MethodCalibration>& method_calibrations();
+
+// The gates of `c` on a valid answer `e` of a method on `stack` (run_method applies its own
+// method's): declines `e` with the gate's reason and numbers. Nothing when !input.calibrated.
+void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack,
+                             const InputOptions& input);
 
 struct EvaluationRow {
   std::string dataset;    // e.g. the stack's file name

@@ -138,6 +138,46 @@ std::optional<std::array<PlaneFit, 2>> fit_plane_pair(const std::vector<Crossing
   return planes;
 }
 
+// The radial plane refitted (robust TLS, as in fit_plane_pair) on the crossings nearer to it than
+// to the other plane and farther than `exclusion` (radians) from the suns' bisector `toward_sun`
+// and its antipode. Near the sun and the antisun a real sky is not Rayleigh's: neutral points
+// (Babinet, Brewster, Arago: 15–25° from them, on the solar vertical) bend the set where two
+// frames' DoLP are equal away from the great circle, and the radial circle runs through both, so
+// those crossings pull its normal off the pole. nullopt when fewer than `min_points` remain.
+std::optional<PlaneFit> refit_away_from_sun(const std::vector<Crossing>& pts, const Eigen::Vector3d& radial,
+                                            const Eigen::Vector3d& other, const Eigen::Vector3d& toward_sun,
+                                            double exclusion, int min_points) {
+  const double cos_ex = std::cos(exclusion);
+  const Eigen::Vector3d a = toward_sun.normalized();
+  std::vector<const Crossing*> members;
+  for (const Crossing& c : pts)
+    if (std::abs(c.p.dot(a)) < cos_ex && std::abs(c.p.dot(radial)) <= std::abs(c.p.dot(other))) members.push_back(&c);
+  if (static_cast<int>(members.size()) < min_points) return std::nullopt;
+  PlaneFit fit;
+  fit.n = radial;
+  for (int iter = 0; iter < 6; ++iter) {
+    std::vector<double> absr(members.size());
+    for (std::size_t t = 0; t < members.size(); ++t) absr[t] = std::abs(fit.n.dot(members[t]->p));
+    const double cut = 4.685 * std::max(1.4826 * median(absr), 1e-7);
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    int inl = 0;
+    double sq = 0;
+    for (std::size_t t = 0; t < members.size(); ++t) {
+      const double wt = tukey(absr[t], cut);
+      if (wt <= 0) continue;
+      cov += wt * members[t]->p * members[t]->p.transpose();
+      ++inl;
+      sq += absr[t] * absr[t];
+    }
+    if (inl < min_points) return std::nullopt;
+    const Eigen::Vector3d n = smallest_eigenvector(cov);
+    fit.n = n.dot(radial) < 0 ? Eigen::Vector3d(-n) : n;
+    fit.inliers = inl;
+    fit.rms = std::sqrt(sq / inl);
+  }
+  return fit;
+}
+
 struct Hypothesis {
   Eigen::Vector3d plane_normal, radial_normal;  // A, B of great_circle.h step 3
   double half_separation = 0;                   // h, radians
@@ -346,6 +386,19 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
     cp.radial_points = radial.inliers;
     cp.plane_points = plane.inliers;
     cp.radial_rms_deg = radial.rms / kDeg;
+    // The largest exclusion (the given one, then 2/3 and 1/3 of it) that leaves enough of the
+    // circle; a view of little but the sun's side of the sky (the pole outside the field of view)
+    // keeps the fit on every crossing.
+    for (const double share : {1.0, 2.0 / 3.0, 1.0 / 3.0}) {
+      if (!(params.sun_exclusion_deg > 0)) break;
+      const auto away = refit_away_from_sun(pts, radial.n, plane.n, hyp.plane_normal,
+                                            share * params.sun_exclusion_deg * kDeg, params.min_points);
+      if (!away) continue;
+      cp.radial_normal = away->n.dot(hyp.radial_normal) < 0 ? Eigen::Vector3d(-away->n) : away->n;
+      cp.radial_points = away->inliers;
+      cp.radial_rms_deg = away->rms / kDeg;
+      break;
+    }
     cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
     cp.hypothesis_ratio = hyp.ratio;
     cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;

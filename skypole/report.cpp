@@ -192,7 +192,7 @@ void print_estimate(const EstimateRequest& r) {
     } else {
       try {
         const auto computed = [&](const std::string& m) {
-          return !used_by_auto(m) ||
+          return !used_by_auto(m, stack.site_known) ||
                  std::any_of(done.begin(), done.end(), [&](const PoleEstimate& d) { return d.method == m; });
         };
         const bool reuse = methods[i] == "auto" && std::all_of(method_names().begin(), method_names().end(), computed);

@@ -134,6 +134,14 @@ void jackknife_uncertainty(PoleEstimate& e, int n,
   set_uncertainty(e, c);
 }
 
+double pixel_angle_deg(const camera::Camera& camera) {
+  const camera::Intrinsics& k = camera.lens().intrinsics();
+  const auto a = camera.lens().ray(Eigen::Vector2d(k.cx, k.cy));
+  const auto b = camera.lens().ray(Eigen::Vector2d(k.cx + 1.0, k.cy));
+  if (!a || !b) return 0.0;
+  return std::acos(std::clamp(a->normalized().dot(b->normalized()), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+}
+
 void apply_uncertainty_bound(PoleEstimate& e, double max_cone95_deg) {
   if (!e.valid || !std::isfinite(max_cone95_deg)) return;
   if (e.cone95_deg > max_cone95_deg) {

@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 
+#include "camera/camera.h"
 #include "stack/frame.h"
 #include "skypole/estimate.h"
 
@@ -66,6 +67,11 @@ void jackknife_uncertainty(
 void jackknife_uncertainty(PoleEstimate& e, int frames,
                            const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
                            const JackknifeOptions& options);
+
+// The angle (degrees) between the rays of the principal point and of the pixel to its right: a
+// pixel's angular size at the centre of the image, the scale below which no method working on the
+// pixel grid can place the pole (classic's blob is a few pixels wide at any resolution).
+double pixel_angle_deg(const camera::Camera& camera);
 
 // Declines `e` when its 95 % cone is wider than `max_cone95_deg` (when that is finite), with the
 // reason in numbers.

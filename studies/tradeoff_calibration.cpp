@@ -1,14 +1,17 @@
 // Study: are the stated uncertainties honest? A seeded random population of scenes unlike the
 // shipped ones — sites from −70° to 70° latitude, dates through the year, windows of 20 min to
 // 11 h with a frame every 2–30 min, any heading, tilts up to 15°, every analytic lens model, the
-// mono or colour DoFP sensor at various exposures and gains (or none), 0–50 % cloud, the Rayleigh
-// and Berry skies — each rendered small (binning 8: 306×256; --small: binning 16, 153×128) and
+// mono or colour DoFP sensor at various exposures and gains (or none), 0–50 % cloud, the Rayleigh,
+// Berry and multiple-scattering (vrte: a few atmospheres, tables from the disk cache) skies —
+// each rendered small (binning 8: 306×256; --small: binning 16, 153×128) and
 // given to every method and to auto, with --max-uncertainty (default 5°: StudyOptions). Per stack and method: the error against the truth, the
 // stated σ and 95 % cone. Per method: the yield (share of valid answers), the lie rate (valid
 // with error > 5°, or > 5σ), the coverage (share of valid answers whose 95 % cone holds the
 // truth), the error distribution, and the σ factor that would have made the coverage exactly
-// 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seed 1; the checks in
-// docs/benchmarks.md use seed 2).
+// 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seed 1, with
+// scripts/calibration_tune.py; the checks in docs/benchmarks.md use seeds 2 and 3). The same per
+// sky model (calibration_by_sky.csv), and auto against each method on the scenes both answer
+// (calibration_auto.csv).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +33,7 @@
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
 #include "skypole/evaluate.h"
+#include "skypole/uncertainty.h"
 #include "studies/tradeoff_setup.h"
 #include "studies/tradeoff_studies.h"
 #include "studies/tradeoff_table.h"
@@ -51,6 +55,10 @@ struct Draw {
   std::string lens;
   std::string sky_model;
   double max_dolp = 0.7;
+  // vrte only: one of a few atmospheres, so that the solver's tables (one per atmosphere and
+  // band, cached on disk) are reused across scenes and runs.
+  std::string aerosol;
+  double tau_550 = 0, ground_albedo = 0;
   double cloud = 0;
   std::string sensor;  // none | mono | colour
   double exposure_us = 0, gain_factor = 1;
@@ -93,8 +101,19 @@ Draw draw_scene(std::mt19937_64& rng, int index) {
     d.tilt = u(rng) < 0.4 ? 0.0 : 15 * u(rng);
     d.roll = u(rng) < 0.4 ? 0.0 : 360 * u(rng);  // the tilt's direction
     d.lens = lenses[static_cast<std::size_t>(u(rng) * static_cast<double>(lenses.size())) % lenses.size()];
-    d.sky_model = u(rng) < 0.7 ? "rayleigh" : "berry";
+    // Every sky model: single scattering (Rayleigh), Berry's neutral points, and the physically
+    // based multiple-scattering sky (vrte: molecules, one OPAC aerosol, a Lambertian ground).
+    const double which_sky = u(rng);
+    d.sky_model = which_sky < 0.45 ? "rayleigh" : which_sky < 0.7 ? "berry" : "vrte";
     d.max_dolp = 0.5 + 0.3 * u(rng);
+    {
+      const std::vector<std::string> aerosols = {"continental_clean", "maritime_clean", "urban"};
+      const std::vector<double> taus = {0.05, 0.3}, albedos = {0.1, 0.3};
+      const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(u(rng) * static_cast<double>(n)) % n; };
+      d.aerosol = aerosols[pick(aerosols.size())];
+      d.tau_550 = taus[pick(taus.size())];
+      d.ground_albedo = albedos[pick(albedos.size())];
+    }
     d.cloud = u(rng) < 0.35 ? 0.0 : 0.5 * u(rng);
     const double s = u(rng);
     d.sensor = s < 0.15 ? "none" : s < 0.8 ? "mono" : "colour";
@@ -107,6 +126,19 @@ Draw draw_scene(std::mt19937_64& rng, int index) {
     d.date = buf;
     return d;
   }
+}
+
+// The 99th percentile of a frame's S0 over the pixels that see sky (mask > 0.5).
+double bright_s0(const stack::Frame& f, const std::string& band) {
+  const auto& s0 = f.channels.at("S0." + band);
+  const auto& mask = f.channels.at("mask");
+  std::vector<float> v;
+  for (std::size_t i = 0; i < s0.size(); ++i)
+    if (mask[i] > 0.5f && std::isfinite(s0[i]) && s0[i] > 0) v.push_back(s0[i]);
+  if (v.empty()) return 1.0;
+  const auto k = v.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), k, v.end());
+  return std::max(static_cast<double>(*k), 1e-6);
 }
 
 std::shared_ptr<const camera::Camera> make_camera(const Draw& d, int binning) {
@@ -139,10 +171,22 @@ stack::Stack render_draw(const Draw& d, int binning) {
   sky.max_dolp = d.max_dolp;
   sky.clouds.coverage = d.cloud;
   sky.clouds.seed = d.seed;
-  const std::unique_ptr<sky::SkyModel> sky_model = sky::make_sky(sky);
   const bool colour = d.sensor == "colour";
   render::RenderOptions ro;
   ro.bands = colour ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
+  const bool vrte = d.sky_model == "vrte";
+  if (vrte) {
+    sky.max_dolp = 1.0;  // the solver gives the degree itself
+    sky.aerosol.type = d.aerosol;
+    sky.aerosol.tau_550 = d.tau_550;
+    sky.ground_albedo = d.ground_albedo;
+  }
+  // One model per band (vrte), or one grey model. The vrte atmosphere is the standard one at
+  // 45° latitude for every site (the Rayleigh depth's latitude term is < 0.3 %), so that a table
+  // serves every scene with the same aerosol, depth and albedo.
+  const sky::BandSkies skies = sky::make_band_skies(sky, ro.bands, sky::SiteAtmosphere{}, sky::default_table_cache_dir());
+  std::vector<const sky::SkyModel*> band_skies;
+  for (const auto& m : skies.skies) band_skies.push_back(m.get());
   ro.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
   const render::Renderer renderer(cam, ro);
   scene::Scene scene;
@@ -157,13 +201,17 @@ stack::Stack render_draw(const Draw& d, int binning) {
   for (int i = 0; i < d.frames; ++i) {
     const sky::Instant t{d.start_unix + i * d.step_min * 60.0};
     const scene::Truth truth = scene::make_truth(scene, *cam, t);
-    stack.frames[static_cast<std::size_t>(i)] = renderer.render(*sky_model, truth.sun);
+    stack.frames[static_cast<std::size_t>(i)] = renderer.render(band_skies, truth.sun);
     stack.frames[static_cast<std::size_t>(i)].truth = truth;
   }
   if (d.sensor != "none") {
     scene::SensorSpec sensor;
     sensor.dofp = paper_sensor(binning, d.exposure_us, d.seed);
     sensor.dofp.gain_dn_per_e *= d.gain_factor;
+    // The vrte sky's S0 is I/F (≈ 0.01–1 sr⁻¹), not the grey models' unit (docs/scenes.md): expose
+    // it as the grey skies are, its brightest sky (99th percentile of frame 0's S0) at the
+    // radiance the sensor's preset puts at 70 % of the full well in 1 ms.
+    if (vrte) sensor.dofp.electrons_per_radiance_s /= bright_s0(stack.frames.front(), ro.bands.front());
     if (colour) sensor.dofp.color_filter = camera::ColorFilter::rggb_blocks;
     tbb::parallel_for(std::size_t{0}, stack.frames.size(), [&](std::size_t i) {
       render::apply_sensor(sensor, ro.bands, i, stack.frames[i], false);
@@ -182,21 +230,26 @@ void study_calibration(const StudyOptions& o) {
   const int count = o.count > 0 ? o.count : (o.small ? 6 : 300);
   std::mt19937_64 rng(o.seed);
   Table rows({"stack", "seed", "latitude_deg", "longitude_deg", "date", "window_min", "step_min", "frames",
-              "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "cloud", "sensor", "exposure_us", "gain_factor",
-              "binning", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
+              "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "aerosol", "tau_550", "ground_albedo", "cloud",
+              "sensor", "exposure_us", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
-              "inside_cone", "lie", "residual_deg", "unpolarized_share", "estimate_s"});
-  struct Acc {
-    int stacks = 0, valid = 0, lies = 0, inside = 0;
-    std::vector<double> errors, ratios;  // angular error; error / cone95
+              "inside_cone", "lie", "residual_deg", "unpolarized_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
+              "estimate_s"});
+  // One record per (scene, method), summarised per method and per method and sky model.
+  struct Outcome {
+    std::size_t method = 0;
+    int stack = 0;
+    std::string sky;
+    bool valid = false, inside = false, lie = false;
+    double error = 0, ratio = 0;  // angular error; error / cone95
   };
+  std::vector<Outcome> outcomes;
   std::vector<std::string> methods = skypole::method_names();
   skypole::InputOptions input;
   input.max_uncertainty_deg = o.max_uncertainty_deg;
   input.calibrated = !o.uncalibrated;
   input.cloud_gate = !o.no_cloud_gate;
   input.sky_mask = !o.no_sky_mask;
-  std::vector<Acc> acc(methods.size());
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);
     const stack::Stack stack = render_draw(d, binning);
@@ -204,6 +257,9 @@ void study_calibration(const StudyOptions& o) {
     // threshold can be read off this table.
     const double unpolarized =
         skypole::unpolarized_share(skypole::prepare_sky_images(stack, input, 1, "calibration"));
+    const double pixel_deg = skypole::pixel_angle_deg(*stack.camera);
+    const double anisotropy =
+        skypole::ring_anisotropy(skypole::prepare_sky_images(stack, input, 1, "calibration"));
     std::vector<skypole::PoleEstimate> done;
     for (std::size_t m = 0; m < methods.size(); ++m) {
       skypole::PoleEstimate e;
@@ -230,29 +286,38 @@ void study_calibration(const StudyOptions& o) {
           .set("lens", d.lens)
           .set("sky", d.sky_model)
           .set("max_dolp", d.max_dolp)
+          .set("aerosol", d.aerosol)
+          .set("tau_550", d.tau_550)
+          .set("ground_albedo", d.ground_albedo)
+          .set("pixel_deg", pixel_deg)
           .set("cloud", d.cloud)
           .set("sensor", d.sensor)
           .set("exposure_us", d.exposure_us)
           .set("gain_factor", d.gain_factor)
           .set("binning", binning)
           .set("unpolarized_share", unpolarized)
+          .set("ring_anisotropy", anisotropy)
           .set("method", methods[m])
           .set("valid", e.valid)
           .set("estimate_s", e.seconds);
-      Acc& a = acc[m];
-      ++a.stacks;
+      Outcome out;
+      out.method = m;
+      out.stack = k;
+      out.sky = d.sky_model;
       if (!e.valid) {
         rows.set("why_invalid", e.why_invalid);
+        outcomes.push_back(out);
         continue;
       }
       const skypole::Score s = skypole::score(e, stack.frames.front().truth);
       const bool inside = s.angular_error_deg <= e.cone95_deg;
       const bool lie = s.angular_error_deg > kLieDeg || s.angular_error_deg > kLieSigma * e.sigma_deg;
-      ++a.valid;
-      a.inside += inside ? 1 : 0;
-      a.lies += lie ? 1 : 0;
-      a.errors.push_back(s.angular_error_deg);
-      a.ratios.push_back(e.cone95_deg > 0 ? s.angular_error_deg / e.cone95_deg : 1e9);
+      out.valid = true;
+      out.inside = inside;
+      out.lie = lie;
+      out.error = s.angular_error_deg;
+      out.ratio = e.cone95_deg > 0 ? s.angular_error_deg / e.cone95_deg : 1e9;
+      outcomes.push_back(out);
       rows.set("angular_error_deg", s.angular_error_deg)
           .set("latitude_error_deg", std::abs(s.latitude_error_deg))
           .set("sigma_bearing_deg", e.sigma_bearing_deg)
@@ -261,7 +326,11 @@ void study_calibration(const StudyOptions& o) {
           .set("cone95_deg", e.cone95_deg)
           .set("inside_cone", inside)
           .set("lie", lie)
-          .set("residual_deg", e.residual_deg);
+          .set("residual_deg", e.residual_deg)
+          .set("pole_x", e.pole_level.x())
+          .set("pole_y", e.pole_level.y())
+          .set("pole_z", e.pole_level.z())
+          .set("is_north", e.is_north);
       if (s.bearing_error_deg) rows.set("bearing_error_deg", std::abs(*s.bearing_error_deg));
     }
     if (o.progress) std::fprintf(stderr, "calibration %d/%d\n", k + 1, count);
@@ -272,31 +341,81 @@ void study_calibration(const StudyOptions& o) {
     const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
     return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
   };
+  const std::vector<std::string> skies = {"rayleigh", "berry", "vrte"};
   Table summary({"method", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",
                  "median_error_deg", "p90_error_deg", "p95_error_deg", "max_error_deg", "factor_for_95",
                  "seed", "binning", "max_uncertainty_deg"});
-  for (std::size_t m = 0; m < methods.size(); ++m) {
-    const Acc& a = acc[m];
-    summary.row()
+  // The same per sky model: what a physically based sky (or Berry's neutral points) does to each.
+  Table by_sky({"method", "sky", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",
+                "median_error_deg", "p95_error_deg", "max_error_deg"});
+  const auto fill = [&](Table& t, std::size_t m, const std::string& sky) {
+    int stacks = 0, valid = 0, lies = 0, inside = 0;
+    std::vector<double> errors, ratios;
+    for (const Outcome& r : outcomes) {
+      if (r.method != m || (!sky.empty() && r.sky != sky)) continue;
+      ++stacks;
+      if (!r.valid) continue;
+      ++valid;
+      lies += r.lie ? 1 : 0;
+      inside += r.inside ? 1 : 0;
+      errors.push_back(r.error);
+      ratios.push_back(r.ratio);
+    }
+    t.row()
         .set("method", methods[m])
-        .set("stacks", a.stacks)
-        .set("valid", a.valid)
-        .set("yield", a.stacks ? static_cast<double>(a.valid) / a.stacks : std::nan(""))
-        .set("lies", a.lies)
-        .set("lie_rate", a.valid ? static_cast<double>(a.lies) / a.valid : std::nan(""))
-        .set("inside_cone", a.inside)
-        .set("coverage", a.valid ? static_cast<double>(a.inside) / a.valid : std::nan(""))
-        .set("median_error_deg", quantile(a.errors, 0.5))
-        .set("p90_error_deg", quantile(a.errors, 0.9))
-        .set("p95_error_deg", quantile(a.errors, 0.95))
-        .set("max_error_deg", quantile(a.errors, 1.0))
-        .set("factor_for_95", quantile(a.ratios, 0.95))
-        .set("seed", static_cast<int>(o.seed))
-        .set("binning", binning)
-        .set("max_uncertainty_deg", o.max_uncertainty_deg);
+        .set("stacks", stacks)
+        .set("valid", valid)
+        .set("yield", stacks ? static_cast<double>(valid) / stacks : std::nan(""))
+        .set("lies", lies)
+        .set("lie_rate", valid ? static_cast<double>(lies) / valid : std::nan(""))
+        .set("inside_cone", inside)
+        .set("coverage", valid ? static_cast<double>(inside) / valid : std::nan(""))
+        .set("median_error_deg", quantile(errors, 0.5))
+        .set("p95_error_deg", quantile(errors, 0.95))
+        .set("max_error_deg", quantile(errors, 1.0));
+    if (sky.empty())
+      t.set("p90_error_deg", quantile(errors, 0.9))
+          .set("factor_for_95", quantile(ratios, 0.95))
+          .set("seed", static_cast<int>(o.seed))
+          .set("binning", binning)
+          .set("max_uncertainty_deg", o.max_uncertainty_deg);
+    else
+      t.set("sky", sky);
+  };
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    fill(summary, m, "");
+    for (const std::string& sky : skies) fill(by_sky, m, sky);
+  }
+  // auto against each method on the scenes where both answer: medians over the same scenes, so
+  // that auto's wider reach (scenes only one method answers) does not decide the comparison.
+  Table common({"method", "common", "method_median_error_deg", "auto_median_error_deg", "method_only",
+                "auto_only"});
+  const std::size_t auto_index = methods.size() - 1;
+  for (std::size_t m = 0; m + 1 < methods.size(); ++m) {
+    std::vector<double> mine, theirs;
+    int method_only = 0, auto_only = 0;
+    for (int k = 0; k < count; ++k) {
+      const Outcome& a = outcomes[static_cast<std::size_t>(k) * methods.size() + m];
+      const Outcome& b = outcomes[static_cast<std::size_t>(k) * methods.size() + auto_index];
+      if (a.valid && b.valid) {
+        mine.push_back(a.error);
+        theirs.push_back(b.error);
+      }
+      method_only += a.valid && !b.valid ? 1 : 0;
+      auto_only += b.valid && !a.valid ? 1 : 0;
+    }
+    common.row()
+        .set("method", methods[m])
+        .set("common", static_cast<int>(mine.size()))
+        .set("method_median_error_deg", quantile(mine, 0.5))
+        .set("auto_median_error_deg", quantile(theirs, 0.5))
+        .set("method_only", method_only)
+        .set("auto_only", auto_only);
   }
   rows.write((std::filesystem::path(o.out_dir) / "calibration.csv").string());
   summary.write((std::filesystem::path(o.out_dir) / "calibration_summary.csv").string());
+  by_sky.write((std::filesystem::path(o.out_dir) / "calibration_by_sky.csv").string());
+  common.write((std::filesystem::path(o.out_dir) / "calibration_auto.csv").string());
 }
 
 }  // namespace skypol::studies::tradeoff

@@ -22,6 +22,7 @@ struct Expect {
   double great_circle_deg;  // bound on the pole's angular error
   bool classic_must_succeed;
   double classic_deg;
+  bool great_circle_may_decline = false;  // with its reason
 };
 
 // Bounds: about twice the errors measured at binning 16 (scenes/README.md lists them). A scene
@@ -29,17 +30,22 @@ struct Expect {
 const Expect kDefault{1.0, false, 5.0};
 const std::map<std::string, Expect> kExpect{
     {"skypole-marseille", {0.1, true, 1.5}},
-    {"skypole-marseille-dofp", {2.0, true, 5.0}},  // sensor noise and a 12-bit ADC
+    // Sensor noise and a 12-bit ADC; great_circle's fit residual is above the 0.05° its
+    // calibration keeps (skypole/evaluate.cpp), so it declines, saying so.
+    {"skypole-marseille-dofp", {2.0, true, 5.0, true}},
     // The multiple-scattering sky is not the single-scattering pattern the estimators assume: at
     // binning 16 great_circle's pole is 8.3° off and classic's 4.0° (latitude; bearings < 0.13°).
-    {"skypole-marseille-vrte", {17.0, true, 8.0}},
+    // great_circle's calibration declines it (a fit residual above 0.05°: skypole/evaluate.cpp).
+    {"skypole-marseille-vrte", {17.0, true, 8.0, true}},
     {"hard-tilted-camera", {0.1, true, 1.0}},
     {"hard-southern", {0.1, true, 2.0}},
     {"hard-polar-day", {0.1, true, 1.0}},
     {"sun2019-hefei", {0.1, false, 5.0}},
     {"hard-equator", {0.1, false, 5.0}},
     {"hard-sun-zenith", {0.1, false, 5.0}},
-    {"hard-sun-horizon", {0.1, false, 5.0}},
+    // The sun on the horizon: without one of its six frame groups great_circle finds the other
+    // pole (its circles refitted away from the sun keep little of the sky), so it declines.
+    {"hard-sun-horizon", {0.1, false, 5.0, true}},
     {"urban-canyon", {0.1, false, 5.0}},  // classic declines: the pole is behind the buildings
     // Known weakness, not the mountains': at 1/16 resolution in midwinter classic's latitude is
     // 13.9° off (13.5° without the [occluders] section; 0.46° at 1/8). Bound kept tight on it.
@@ -97,7 +103,9 @@ TEST_CASE("every shipped scene renders and estimates at 1/16 resolution", "[cli]
     const auto it = kExpect.find(name);
     const Expect expect = it == kExpect.end() ? kDefault : it->second;
     ++rows[name];
-    if (f[c_method] == "great_circle") {
+    if (f[c_method] == "great_circle" && expect.great_circle_may_decline && f[c_valid] == "0") {
+      CHECK_FALSE(f[c_why].empty());
+    } else if (f[c_method] == "great_circle") {
       REQUIRE(f[c_valid] == "1");
       CHECK(std::stod(f[c_error]) < expect.great_circle_deg);
     } else if (f[c_valid] == "1") {

@@ -10,6 +10,7 @@
 #include "camera/orientation.h"
 #include "camera/radial_lens.h"
 #include "sky/rayleigh.h"
+#include "sky/sky_spec.h"
 #include "sky/sun.h"
 
 namespace skypol::testing {
@@ -44,7 +45,17 @@ stack::Stack make_stack(const SyntheticSpec& spec) {
   stack.camera = cam;
   stack.bands = {spec.band};
   const sky::Site site{spec.latitude_deg, spec.longitude_deg, 0};
-  const sky::RayleighSky model(sky::RayleighParams{spec.max_dolp});
+  // Rayleigh exactly as the tests were written against; other grey models through their spec.
+  std::unique_ptr<sky::SkyModel> sky_model;
+  if (spec.sky_model == "rayleigh") {
+    sky_model = std::make_unique<sky::RayleighSky>(sky::RayleighParams{spec.max_dolp});
+  } else {
+    sky::SkySpec sky_spec;
+    sky_spec.model = spec.sky_model;
+    sky_spec.max_dolp = spec.max_dolp;
+    sky_model = sky::make_sky(sky_spec);
+  }
+  const sky::SkyModel& model = *sky_model;
   const bool north = spec.latitude_deg >= 0;
   const double phi = spec.latitude_deg * kDeg;
   const Eigen::Vector3d ncp(0, std::cos(phi), std::sin(phi));

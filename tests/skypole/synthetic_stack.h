@@ -1,5 +1,5 @@
 // Synthetic stacks for the estimator tests, rendered here pixel by pixel with camera::Camera::ray
-// and sky::RayleighSky (no EXR round trip): an equidistant 185° fisheye, DoLP/AoLP/mask channels
+// and sky::RayleighSky or Berry's sky (no EXR round trip): an equidistant 185° fisheye, DoLP/AoLP/mask channels
 // and the truth the renderer would write.
 #pragma once
 
@@ -22,6 +22,7 @@ struct SyntheticSpec {
   int size = 256;             // square image, image circle touching the borders
   double fov_deg = 185;
   double max_dolp = 1.0;      // Rayleigh Pmax
+  std::string sky_model = "rayleigh";  // or "berry" (neutral points 20° from the sun and antisun)
   double noise = 0;           // σ of Gaussian noise on each polarizer intensity, in units of S0/2
   std::uint32_t seed = 1;
   bool with_aolp = true;

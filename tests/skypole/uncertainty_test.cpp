@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <numbers>
 
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
@@ -73,6 +74,13 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
     const skypole::PoleEstimate e = skypole::run_method(stack, m);
     INFO(m << ": " << e.why_invalid << " " << e.note);
     if (m == "classic" && !e.valid) continue;  // the paper's method may decline; never lie
+    // great_circle's calibration keeps only fits with a residual under 0.05° (the multiple-
+    // scattering sky's biased fits look like noisy Rayleigh ones above it): on this noisy day its
+    // residual is 0.13°, so it declines, for that reason.
+    if (m == "great_circle" && !e.valid) {
+      CHECK_THAT(e.why_invalid, Catch::Contains("the fit's residual"));
+      continue;
+    }
     REQUIRE(e.valid);
     const skypole::Score s = skypole::score(e, stack.frames.front().truth);
     std::cout << m << ": error " << s.angular_error_deg << "°, cone95 " << e.cone95_deg << "°, σ bearing "
@@ -112,20 +120,22 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
     CHECK_FALSE(e.valid);
     CHECK_THAT(e.why_invalid, Catch::Contains("too few frames to measure the uncertainty"));
   }
-  SECTION("a window shorter than the calibration found reliable: declined for the window, not the field of view") {
-    // 40 min, clean: sun_vector and sun_dolp would answer, but the calibration study found their
-    // errors unpredictable under 2 h and 1 h (evaluate.cpp); uncalibrated, the gates do not apply.
+  SECTION("a window shorter than the calibration's gate: declined for the window, not the field of view") {
+    // 40 min, clean: sun_vector answers; a calibration that found it unpredictable under 2 h
+    // declines it for the window, with the numbers; uncalibrated, the gates do not apply.
     spec.times = testing::times_every("2022-09-23T10:00:00Z", "2022-09-23T10:40:00Z", 10);
     const stack::Stack stack = testing::make_stack(spec);
-    const skypole::PoleEstimate sv = skypole::run_method(stack, "sun_vector");
+    skypole::PoleEstimate sv = skypole::run_method(stack, "sun_vector");
+    REQUIRE(sv.valid);
+    const skypole::MethodCalibration c{.method = "sun_vector", .min_window_min = 120};
+    skypole::apply_calibration_gates(sv, c, stack, {});
     CHECK_FALSE(sv.valid);
     CHECK_THAT(sv.why_invalid, Catch::Contains("window (40 min) is shorter than the 120 min"));
-    const skypole::PoleEstimate sd = skypole::run_method(stack, "sun_dolp");
-    CHECK_FALSE(sd.valid);
-    CHECK_THAT(sd.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
-    skypole::InputOptions raw;
-    raw.calibrated = false;
-    CHECK(skypole::run_method(stack, "sun_vector", raw).valid);
+    skypole::PoleEstimate raw = skypole::run_method(stack, "sun_vector");
+    skypole::InputOptions uncalibrated;
+    uncalibrated.calibrated = false;
+    skypole::apply_calibration_gates(raw, c, stack, uncalibrated);
+    CHECK(raw.valid);
   }
   SECTION("a short noisy window: the jackknife sees the answer move and the cone is wide or the method declines") {
     spec.times = testing::times_every("2022-09-23T11:00:00Z", "2022-09-23T11:20:00Z", 5);
@@ -143,28 +153,47 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
   }
 }
 
-TEST_CASE("auto combines the methods that agree and says which", "[skypole][uncertainty][auto]") {
+TEST_CASE("auto returns the agreeing answer with the smallest sigma and says which", "[skypole][uncertainty][auto]") {
   testing::SyntheticSpec spec;
   spec.times = testing::paper_times();
   spec.size = 96;
   spec.heading_deg = 300;
   spec.noise = 0.01;
   spec.max_dolp = 0.7;
-  const stack::Stack stack = testing::make_stack(spec);
+  stack::Stack stack = testing::make_stack(spec);
   std::vector<skypole::PoleEstimate> all;
   for (const std::string& m : skypole::method_names())
     if (m != "auto") all.push_back(skypole::run_method(stack, m));
+  // The smallest σ among the valid answers, computed here from the members themselves.
+  const auto sharpest = [&](bool with_ephemeris) {
+    const skypole::PoleEstimate* best = nullptr;
+    for (const auto& e : all)
+      if (e.valid && (with_ephemeris || e.method != "sun_vector_ephemeris") && (!best || e.sigma_deg < best->sigma_deg))
+        best = &e;
+    return best;
+  };
   const skypole::PoleEstimate a = skypole::combine_estimates(stack, {}, all);
   INFO(a.why_invalid << " / " << a.note);
   REQUIRE(a.valid);
   CHECK(a.method == "auto");
-  CHECK_THAT(a.note, Catch::Contains("combined: ") && Catch::Contains("sun_vector"));
-  CHECK(a.note.find("sun_vector_ephemeris") == std::string::npos);  // auto does not know the site
-  double narrowest = 1e9;
-  for (const auto& e : all)
-    if (e.valid && e.method != "sun_vector_ephemeris") narrowest = std::min(narrowest, e.cone95_deg);
-  CHECK(a.cone95_deg == Approx(narrowest));
+  REQUIRE(sharpest(true) != nullptr);
+  // The stack knows its site: sun_vector_ephemeris takes part, and the sharpest answer is returned
+  // as it stands (its pole, its σ).
+  CHECK_THAT(a.note, Catch::Contains("answer of " + sharpest(true)->method));
+  CHECK(a.sigma_deg == sharpest(true)->sigma_deg);
+  CHECK(a.cone95_deg == sharpest(true)->cone95_deg);
+  CHECK(a.heading_deg == sharpest(true)->heading_deg);
+  CHECK(a.latitude_deg == sharpest(true)->latitude_deg);
   CHECK(skypole::score(a, stack.frames.front().truth).angular_error_deg < 0.5);
+
+  SECTION("a capture without its site: sun_vector_ephemeris is left out") {
+    stack.site_known = false;
+    const skypole::PoleEstimate b = skypole::combine_estimates(stack, {}, all);
+    REQUIRE(b.valid);
+    CHECK(b.note.find("sun_vector_ephemeris") == std::string::npos);
+    CHECK_THAT(b.note, Catch::Contains("answer of " + sharpest(false)->method));
+    CHECK(b.sigma_deg == sharpest(false)->sigma_deg);
+  }
 
   SECTION("no method answers: auto declines and lists why") {
     std::vector<skypole::PoleEstimate> none = all;
@@ -176,4 +205,15 @@ TEST_CASE("auto combines the methods that agree and says which", "[skypole][unce
     CHECK_FALSE(d.valid);
     CHECK_THAT(d.why_invalid, Catch::Contains("no method could answer") && Catch::Contains("great_circle: test"));
   }
+}
+
+TEST_CASE("pixel_angle_deg is 1/fx radians for an equidistant lens", "[skypole][uncertainty]") {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.size = 96;
+  const stack::Stack stack = testing::make_stack(spec);
+  // synthetic_stack: fx = size/2 / θmax, θmax = 92.5°; equidistant: r = fx·θ, so one pixel from
+  // the principal point is 1/fx rad.
+  const double fx = 0.5 * 96 / (92.5 * std::numbers::pi / 180);
+  CHECK(skypole::pixel_angle_deg(*stack.camera) == Approx(180 / std::numbers::pi / fx).epsilon(1e-9));
 }
