@@ -205,33 +205,40 @@ PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
 }  // namespace
 
 const std::vector<MethodCalibration>& method_calibrations() {
-  // Read off `skypol tradeoff calibration --out DIR --seed 1 --count 200 --binning 16
+  // Read off `skypol tradeoff calibration --out DIR --seed 1 --count 500 --binning 16
   // --max-uncertainty inf --uncalibrated` (every sky model: Rayleigh, Berry, vrte; the methods
   // with their per-pixel sky mask) by `scripts/calibration_tune.py DIR/calibration.csv
   // --max-coverage 1 --margin 0.7` (docs/benchmarks.md, section 7): per method, under the 5°
   // bound, the calibration with no error above 5° nor above 3.5σ (the margin: a 5σ lie rule
   // leaves a held-out seed room), at least 90 % of the truths inside the stated cone, the most
-  // answers with the fewest gates; seeds 2 and 3 are held out. What the seed-1 runs showed:
-  //  - sun_vector_ephemeris, sun_vector: the jackknife scatter ×8 and ×4 (floors 0.15°, 0.5°) and
-  //    the 5° bound are enough: the wide cones of cloudy, short or noisy windows are declined by
-  //    the bound, with no gate (the old whole-sky cloud gate declined 60 % of good answers).
-  //  - great_circle: on the multiple-scattering sky it was 2–28° off on clear, noise-free days
-  //    (its equal-DoLP sets are great circles only where DoLP is a function of the angle to the
-  //    sun); its pole fit's residual tells: it answers only below 0.05°.
-  //  - invariance: a residual up to 2° (180° is its unsettled fit), a floor of 1°: its co-rotating
-  //    model holds for a pattern fixed to the sun, which Berry's and the vrte sky are not.
+  // answers with the fewest gates; seed 4 is held out (seeds 2 and 3 were seen under the first
+  // calibration). The first 200 scenes of seed 1 had given a calibration that lied on 12 of the
+  // next 300 (great_circle 5, invariance 4, sun_vector 3): the search needs the rarer failures
+  // that only a larger tuning set shows.
+  // What the 500 seed-1 scenes showed:
+  //  - sun_vector_ephemeris: the jackknife scatter ×8 and a floor of 0.2°, no gate: the wide cones
+  //    of cloudy, short or noisy windows are declined by the bound.
+  //  - sun_vector: ×6, a floor of 0.4°, and a fit residual of at most 0.05°.
+  //  - great_circle: ×8 and a floor of 1.25° (its equal-DoLP sets are great circles only where DoLP
+  //    is a function of the angle to the sun; on Berry and vrte skies it was 2–28° off), a residual
+  //    up to 2°, and a sky whose DoLP around the sun is near a function of the angle to it (ring
+  //    anisotropy ≤ 0.5, cloud_share.h).
+  //  - invariance: ×1.5, a floor of 0.4°, a residual of at most 0.05° (180° is its unsettled fit;
+  //    its co-rotating model holds for a pattern fixed to the sun, which Berry's and vrte's are not).
   //  - sun_dolp: ×8 and a floor of 1.25° (the Rayleigh law it fits is not the vrte sky's).
   //  - classic: its blob is a few pixels wide at any resolution, so its residual (the blob's RMS
-  //    radius) counts only beyond 2 pixel angles, a quarter of the excess; on Berry and vrte skies
-  //    it was 5–26° off with blobs like a clear Rayleigh day's: it answers only where the DoLP
-  //    around the sun is a function of the angle to it (ring anisotropy ≤ 0.2, cloud_share.h).
+  //    radius) counts only beyond 6 pixel angles, a quarter of the excess; ×6, a floor of 1°; and,
+  //    kept from the 200-scene tuning although the 500 did not need it, only where the DoLP
+  //    around the sun is a function of the angle to it (ring anisotropy ≤ 0.2): without it classic
+  //    answered 99.6° off at σ 0.19° on seed 3 (a 12.5° blob at 1.9° pixels, anisotropy 0.47).
   static const std::vector<MethodCalibration> c = {
-      {.method = "classic", .inflation = 2.0, .floor_deg = 0.4, .residual_share = 0.25,
-       .residual_pixels = 2.0, .max_ring_anisotropy = 0.2},
-      {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.4, .max_residual_deg = 0.05},
-      {.method = "invariance", .inflation = 1.0, .floor_deg = 1.0, .max_residual_deg = 2.0},
-      {.method = "sun_vector", .inflation = 4.0, .floor_deg = 0.5},
-      {.method = "sun_vector_ephemeris", .inflation = 8.0, .floor_deg = 0.15},
+      {.method = "classic", .inflation = 6.0, .floor_deg = 1.0, .residual_share = 0.25,
+       .residual_pixels = 6.0, .max_ring_anisotropy = 0.2},
+      {.method = "great_circle", .inflation = 8.0, .floor_deg = 1.25, .max_residual_deg = 2.0,
+       .max_ring_anisotropy = 0.5},
+      {.method = "invariance", .inflation = 1.5, .floor_deg = 0.4, .max_residual_deg = 0.05},
+      {.method = "sun_vector", .inflation = 6.0, .floor_deg = 0.4, .max_residual_deg = 0.05},
+      {.method = "sun_vector_ephemeris", .inflation = 8.0, .floor_deg = 0.2},
       {.method = "sun_dolp", .inflation = 8.0, .floor_deg = 1.25},
   };
   return c;

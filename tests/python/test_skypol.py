@@ -228,7 +228,10 @@ class CaptureHasNoScore(Tmp):
         r = skypol.estimate(ren, "great_circle")
         if r.valid:
             self.assertIsNotNone(r.score)
-            self.assertEqual(e.heading_deg, r.heading_deg)
+            # The same north within the stated cone, not to the bit: the imported stack carries
+            # S0, which the sky mask reads (saturated and dark pixels), the rendered one does not.
+            self.assertTrue(e.valid)
+            self.assertLess(abs(e.heading_deg - r.heading_deg), r.cone95_deg)
 
 
 class EstimatesMatchCli(Tmp):

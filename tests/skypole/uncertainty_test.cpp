@@ -74,10 +74,11 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
     const skypole::PoleEstimate e = skypole::run_method(stack, m);
     INFO(m << ": " << e.why_invalid << " " << e.note);
     if (m == "classic" && !e.valid) continue;  // the paper's method may decline; never lie
-    // great_circle's calibration keeps only fits with a residual under 0.05° (the multiple-
-    // scattering sky's biased fits look like noisy Rayleigh ones above it): on this noisy day its
-    // residual is 0.13°, so it declines, for that reason.
-    if (m == "great_circle" && !e.valid) {
+    // invariance's and sun_vector's calibrations keep only fits with a residual under 0.05°, and
+    // great_circle's under 2° (the multiple-scattering sky's biased fits look like noisy Rayleigh
+    // ones above it): on this noisy day invariance's residual is 0.10°, so it may decline, for
+    // that reason and no other.
+    if ((m == "great_circle" || m == "invariance" || m == "sun_vector") && !e.valid) {
       CHECK_THAT(e.why_invalid, Catch::Contains("the fit's residual"));
       continue;
     }
