@@ -30,12 +30,13 @@ struct Expect {
 const Expect kDefault{1.0, false, 5.0};
 const std::map<std::string, Expect> kExpect{
     {"skypole-marseille", {0.1, true, 1.5}},
-    // Sensor noise and a 12-bit ADC; great_circle's fit residual is above the 0.05° its
-    // calibration keeps (skypole/evaluate.cpp), so it declines, saying so.
+    // Sensor noise and a 12-bit ADC; great_circle may be declined by its calibration's gates
+    // (skypole/evaluate.cpp), saying which.
     {"skypole-marseille-dofp", {2.0, true, 5.0, true}},
     // The multiple-scattering sky is not the single-scattering pattern the estimators assume: at
     // binning 16 great_circle's pole is 8.3° off and classic's 4.0° (latitude; bearings < 0.13°).
-    // great_circle's calibration declines it (a fit residual above 0.05°: skypole/evaluate.cpp).
+    // great_circle's calibration declines it (its ring-anisotropy or residual gate:
+    // skypole/evaluate.cpp), saying which.
     {"skypole-marseille-vrte", {17.0, true, 8.0, true}},
     {"hard-tilted-camera", {0.1, true, 1.0}},
     {"hard-southern", {0.1, true, 2.0}},
