@@ -269,8 +269,14 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
     e.why_invalid = buf;
     return;
   }
+  // The sky images both sky-shape gates read, prepared once and only if a gate needs them.
+  std::optional<SkyImages> images;
+  const auto sky_images = [&]() -> const SkyImages& {
+    if (!images) images = prepare_sky_images(stack, input, 1, e.method);
+    return *images;
+  };
   if (input.cloud_gate && std::isfinite(c.max_unpolarized_share)) {
-    const double share = unpolarized_share(prepare_sky_images(stack, input, 1, e.method));
+    const double share = unpolarized_share(sky_images());
     if (share > c.max_unpolarized_share) {
       std::snprintf(buf, sizeof buf,
                     "cloud or neutral points: %.0f %% of the sky away from the sun and antisun is unpolarized "
@@ -284,7 +290,7 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
     }
   }
   if (std::isfinite(c.max_ring_anisotropy)) {
-    const double a = ring_anisotropy(prepare_sky_images(stack, input, 1, e.method));
+    const double a = ring_anisotropy(sky_images());
     if (a > c.max_ring_anisotropy) {
       std::snprintf(buf, sizeof buf,
                     "the sky is not the single-scattering shape this method assumes: around the sun its DoLP "
