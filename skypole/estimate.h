@@ -108,6 +108,11 @@ struct PoleEstimate {
   double sigma_latitude_deg = 0;
   double cone95_deg = 0;
   double sigma_deg = 0;
+  // The raw jackknife covariances behind them (rad², tangent plane; uncertainty.h), before the
+  // calibration's factors: over frame groups and over sky sectors. What the calibration study
+  // fits the factors from. Zero: not measured (sectors: a method without a sector jackknife).
+  Eigen::Matrix2d jackknife_frames_rad2 = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d jackknife_sectors_rad2 = Eigen::Matrix2d::Zero();
   double seconds = 0;                 // wall-clock run time of the estimator
 };
 

@@ -98,6 +98,10 @@ double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
 
 }  // namespace
 
+bool has_sector_jackknife(std::string_view method) {
+  return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp" || method == "invariance";
+}
+
 bool used_by_auto(std::string_view method, bool site_known) {
   if (method == "auto") return false;
   return method != "sun_vector_ephemeris" || site_known;
@@ -332,31 +336,52 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     e = run_bare(stack, method, input);
   }
   if (!e.valid) return e;
-  JackknifeOptions o;
   MethodCalibration cal;
   for (const MethodCalibration& c : method_calibrations())
     if (c.method == method) cal = c;
   apply_calibration_gates(e, cal, stack, input);
   if (!e.valid) return e;
-  o.inflation = input.calibrated ? cal.inflation : 1.0;
-  // The residual term counts only the part of the residual beyond what the pixel grid itself
-  // imposes (classic's blob is a few pixels wide at any resolution: that much says nothing of its
-  // error, and at binning 16 a pixel is 1.5°).
-  const double residual_excess =
-      std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
-  o.floor_deg = input.calibrated ? std::hypot(cal.floor_deg, cal.residual_share * residual_excess) : 0.05;
+  std::optional<Eigen::Matrix2d> frames;
   if (cl) {
-    jackknife_uncertainty(
-        e, static_cast<int>(stack.frames.size()),
-        [&](const std::vector<std::uint8_t>& keep) { return classic_from(*cl, cl_params, &keep).estimate; }, o);
+    frames = frame_jackknife(e, static_cast<int>(stack.frames.size()), [&](const std::vector<std::uint8_t>& keep) {
+      return classic_from(*cl, cl_params, &keep).estimate;
+    });
   } else if (gc) {
-    jackknife_uncertainty(
-        e, static_cast<int>(stack.frames.size()),
-        [&](const std::vector<std::uint8_t>& keep) { return great_circle_pole(*gc, gc_params, &keep).estimate; },
-        o);
+    frames = frame_jackknife(e, static_cast<int>(stack.frames.size()), [&](const std::vector<std::uint8_t>& keep) {
+      return great_circle_pole(*gc, gc_params, &keep).estimate;
+    });
   } else {
-    jackknife_uncertainty(
-        e, stack, [&](const stack::Stack& s) { return run_bare(s, method, input); }, o);
+    frames = frame_jackknife(e, static_cast<int>(stack.frames.size()), [&](const std::vector<std::uint8_t>& keep) {
+      return run_bare(frames_kept(stack, keep), method, input);
+    });
+  }
+  if (!frames) return e;
+  Eigen::Matrix2d sectors = Eigen::Matrix2d::Zero();
+  if (has_sector_jackknife(method)) {
+    // Sectors about the principal point, so that each holds a sixth of the sky; invariance reads
+    // the sky around its pole, so its sectors are taken about the pole (each takes a wedge of it).
+    const camera::Intrinsics& k = stack.camera->lens().intrinsics();
+    const Eigen::Vector2d centre = method == "invariance" && e.pixel ? *e.pixel : Eigen::Vector2d(k.cx, k.cy);
+    const auto s = sector_jackknife(e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
+                                    centre);
+    if (!s) return e;
+    sectors = *s;
+  }
+  if (input.calibrated) {
+    // The residual term counts only the part of the residual beyond what the pixel grid itself
+    // imposes (classic's blob is a few pixels wide at any resolution: that much says nothing of its
+    // error, and at binning 16 a pixel is 1.5°).
+    const double residual_excess =
+        std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
+    const double unpolarized =
+        cal.unpolarized_deg > 0 ? unpolarized_share(prepare_sky_images(stack, input, 1, e.method)) : 0.0;
+    const double floor = std::sqrt(cal.floor_deg * cal.floor_deg + std::pow(cal.residual_share * residual_excess, 2) +
+                                   std::pow(cal.unpolarized_deg * unpolarized, 2));
+    set_calibrated_uncertainty(e, *frames, cal.inflation, sectors, cal.sector_inflation, floor);
+  } else {
+    // Uncalibrated (what the calibration study measures the factors from): both jackknives as
+    // measured, and a floor of 0.05°.
+    set_calibrated_uncertainty(e, *frames, 1.0, sectors, 1.0, 0.05);
   }
   apply_uncertainty_bound(e, input.max_uncertainty_deg);
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

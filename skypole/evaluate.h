@@ -46,12 +46,15 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
 bool used_by_auto(std::string_view method, bool site_known);
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seed 1
-// (docs/benchmarks.md, section 7). The stated σ is
-//     σ² = (inflation·σ_jackknife)² + floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
-// (pixel: pixel_angle_deg of the stack's camera, uncertainty.h)
-// — the jackknife sees errors that differ between frames, the floor the bias every frame shares
-// (a sky unlike the method's model), the residual term a method whose own fit spreads (classic's
-// blob at low resolution). Gates: where the study found the method's error unpredictable — a fit
+// (docs/benchmarks.md, section 7). The stated covariance is
+//     C = inflation²·C_frames + sector_inflation²·C_sectors + s²·I,
+//     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
+//          + (unpolarized_deg·unpolarized_share)²
+// (pixel: pixel_angle_deg of the stack's camera, uncertainty.h; unpolarized_share: cloud_share.h)
+// — the frame jackknife sees errors that differ between frames, the sector jackknife errors that
+// live in one part of the sky in every frame, the unpolarized term how much of the sky a clear sky
+// cannot explain, the floor the bias left (a sky unlike the method's model), the residual term a
+// method whose own fit spreads (classic's blob at low resolution). Gates: where the study found the method's error unpredictable — a fit
 // residual above max_residual_deg, a window shorter than min_window_min, a sky more than
 // max_unpolarized_share unpolarized (cloud; skypole/cloud_share.h) — it declines, saying so.
 struct MethodCalibration {
@@ -66,7 +69,17 @@ struct MethodCalibration {
   // Decline a sky whose DoLP is not a function of the angle to the sun beyond this
   // (ring_anisotropy, skypole/cloud_share.h: neutral points moved by a real sky).
   double max_ring_anisotropy = std::numeric_limits<double>::infinity();
+  // The factor on the sector jackknife's covariance (uncertainty.h; 0: not counted), and a σ term
+  // unpolarized_deg·unpolarized_share (cloud_share.h: cloud, neutral points, saturation — errors
+  // every frame shares, which neither jackknife sees in full).
+  double sector_inflation = 0.0;
+  double unpolarized_deg = 0.0;
 };
+// Whether `method` runs the sector jackknife (uncertainty.h): the methods that fit the whole sky
+// per frame (sun_vector, sun_vector_ephemeris, sun_dolp) and invariance (its sectors are taken
+// about its own pole). great_circle's would refit its pairs' circles six more times (nearly all
+// its cost); classic stays the paper's.
+bool has_sector_jackknife(std::string_view method);
 const std::vector<MethodCalibration>& method_calibrations();
 
 // The gates of `c` on a valid answer `e` of a method on `stack` (run_method applies its own

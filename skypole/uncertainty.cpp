@@ -75,47 +75,50 @@ stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8
   return sub;
 }
 
-void jackknife_uncertainty(PoleEstimate& e, const stack::Stack& stack,
-                           const std::function<PoleEstimate(const stack::Stack&)>& method,
-                           const JackknifeOptions& o) {
-  const auto refit = [&](const std::vector<std::uint8_t>& keep) { return method(frames_kept(stack, keep)); };
-  jackknife_uncertainty(e, static_cast<int>(stack.frames.size()), refit, o);
+int sector_of(double x, double y, const Eigen::Vector2d& c, int sectors) {
+  const double t = (std::atan2(y - c.y(), x - c.x()) + std::numbers::pi) / (2 * std::numbers::pi);
+  return std::clamp(static_cast<int>(t * sectors), 0, sectors - 1);
 }
 
-void jackknife_uncertainty(PoleEstimate& e, int n,
-                           const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
-                           const JackknifeOptions& o) {
-  if (!e.valid) return;
-  if (n < 3) {
-    e.valid = false;
-    e.why_invalid = "too few frames to measure the uncertainty (" + std::to_string(n) +
-                    "; the jackknife needs 3)";
-    return;
+stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c, int g, int sectors) {
+  stack::Stack sub = stack;
+  for (stack::Frame& f : sub.frames) {
+    const std::size_t n = static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height);
+    std::vector<float>& mask = f.channels["mask"];
+    if (mask.size() != n) mask.assign(n, 1.0f);  // a stack without a mask: every pixel was usable
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x)
+        if (sector_of(x, y, c, sectors) == g)
+          mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x)] = 0.0f;
   }
-  const int k = std::min(n, std::max(o.max_groups, 2));
+  return sub;
+}
+
+std::optional<Eigen::Matrix2d> group_jackknife(PoleEstimate& e, int k, const std::function<PoleEstimate(int)>& sub,
+                                               const std::string& what) {
+  if (!e.valid) return std::nullopt;
   std::vector<Eigen::Vector2d> offsets;
   for (int g = 0; g < k; ++g) {
-    std::vector<std::uint8_t> keep(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) keep[static_cast<std::size_t>(i)] = i % k != g ? 1 : 0;
     PoleEstimate s;
     try {
-      s = refit(keep);
+      s = sub(g);
     } catch (const std::invalid_argument& err) {
       s.valid = false;
       s.why_invalid = err.what();
     }
+    const std::string without = "unstable: without " + what + " " + std::to_string(g + 1) + " of " + std::to_string(k);
+    const std::string cause = what == "frame group"
+                                  ? "the window is too short, too sparse or too noisy for a stated uncertainty"
+                                  : "the answer rests on one part of the sky (cloud, a neutral point, saturation)";
     if (!s.valid) {
       e.valid = false;
-      e.why_invalid = "unstable: without frame group " + std::to_string(g + 1) + " of " + std::to_string(k) +
-                      " the method finds no pole (" + s.why_invalid +
-                      "); the window is too short, too sparse or too noisy for a stated uncertainty";
-      return;
+      e.why_invalid = without + " the method finds no pole (" + s.why_invalid + "); " + cause;
+      return std::nullopt;
     }
     if (s.is_north != e.is_north && std::abs(e.latitude_deg) > 1.0) {
       e.valid = false;
-      e.why_invalid = "unstable: without frame group " + std::to_string(g + 1) + " of " + std::to_string(k) +
-                      " the method finds the other celestial pole (north/south undecidable on this window)";
-      return;
+      e.why_invalid = without + " the method finds the other celestial pole (north/south undecidable; " + cause + ")";
+      return std::nullopt;
     }
     offsets.push_back(tangent_offset(e, s));
   }
@@ -128,9 +131,48 @@ void jackknife_uncertainty(PoleEstimate& e, int n,
   // The jackknife mean's distance from the full answer is a bias the scatter does not show;
   // count it (its square) in both axes' variance.
   c += (mean * mean.transpose()) * static_cast<double>(k - 1);
-  c *= o.inflation * o.inflation;
-  const double floor = o.floor_deg * kDeg;
-  c += Eigen::Matrix2d::Identity() * floor * floor;
+  return c;
+}
+
+std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int n,
+                                               const std::function<PoleEstimate(const std::vector<std::uint8_t>&)>& refit,
+                                               int max_groups) {
+  if (!e.valid) return std::nullopt;
+  if (n < 3) {
+    e.valid = false;
+    e.why_invalid = "too few frames to measure the uncertainty (" + std::to_string(n) +
+                    "; the jackknife needs 3)";
+    return std::nullopt;
+  }
+  const int k = std::min(n, std::max(max_groups, 2));
+  return group_jackknife(
+      e, k,
+      [&](int g) {
+        std::vector<std::uint8_t> keep(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) keep[static_cast<std::size_t>(i)] = i % k != g ? 1 : 0;
+        return refit(keep);
+      },
+      "frame group");
+}
+
+std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
+                                                const std::function<PoleEstimate(const stack::Stack&)>& method,
+                                                const Eigen::Vector2d& centre_px, int sectors) {
+  return group_jackknife(
+      e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); }, "sky sector");
+}
+
+double sigma_deg_of(const Eigen::Matrix2d& c) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(c);
+  return std::sqrt(std::max(es.eigenvalues().maxCoeff(), 0.0)) / kDeg;
+}
+
+void set_calibrated_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& frames, double a,
+                                const Eigen::Matrix2d& sectors, double b, double floor_deg) {
+  const double floor = floor_deg * kDeg;
+  const Eigen::Matrix2d c = a * a * frames + b * b * sectors + Eigen::Matrix2d::Identity() * floor * floor;
+  e.jackknife_frames_rad2 = frames;
+  e.jackknife_sectors_rad2 = sectors;
   set_uncertainty(e, c);
 }
 

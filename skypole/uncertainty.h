@@ -1,29 +1,42 @@
 // How sure an estimate is, in one meaning for every method: a 1-σ uncertainty of the bearing and
 // of the latitude and a 95 % cone on the sphere, all in degrees, derived from the method's own
-// data by a frame-group jackknife, inflated by a per-method factor that the calibration study
-// (`skypol tradeoff calibration`, docs/benchmarks.md) measured on scenes the checks do not use.
+// data by two jackknives — one over frames, one over parts of the sky — each scaled by a
+// per-method factor that the calibration study (`skypol tradeoff calibration`,
+// docs/benchmarks.md section 7) measured on scenes the checks do not use.
 //
-// The jackknife. The frames are dealt into K = min(frames, 6) interleaved groups (frame i goes to
-// group i mod K); the method runs again K times, each time without one group. The K answers'
-// scatter about their mean, as the delete-a-group jackknife prescribes (Efron & Tibshirani,
-// ch. 11: cov = (K−1)/K·Σ(θk − θ̄)(θk − θ̄)ᵀ), is the covariance of the pole's direction in the
-// tangent plane at the estimate (azimuth and altitude axes of the level frame). A method whose
-// answer does not survive the loss of a group of frames — it declines, or finds another pole —
-// is unstable, and the estimate declines with that reason: an answer that moves by more than its
-// own window can support is not one to report.
+// The frame jackknife. The frames are dealt into K = min(frames, 6) interleaved groups (frame i
+// goes to group i mod K); the method runs again K times, each time without one group. The K
+// answers' scatter about their mean, as the delete-a-group jackknife prescribes (Efron &
+// Tibshirani, ch. 11: cov = (K−1)/K·Σ(θk − θ̄)(θk − θ̄)ᵀ), plus its bias term (K−1)·θ̄θ̄ᵀ, is
+// the covariance of the pole's direction in the tangent plane at the estimate (azimuth and
+// altitude axes of the level frame). It sees what differs between frames (noise, a short window).
 //
-// From covariance to numbers. σ_lat = √C_alt,alt; σ_bearing = √C_az,az / cos(altitude) (a
-// tangent step d along the azimuth axis turns the azimuth by d/cos(alt)), capped at 180°;
+// The sector jackknife. The frame jackknife cannot see an error every frame shares — a cloud that
+// stays over one part of the sky, the neutral points of a real sky, saturation near the sun — since
+// every frame group carries it alike. So the usable sky pixels are dealt into K = 6 azimuth
+// sectors about a centre pixel (the principal point; for invariance, which reads the sky around
+// its pole, the estimated pole) and the method runs again with one sector masked in every frame;
+// the same formula gives a second covariance. An error that lives in one part of the sky moves
+// the answer without that part; one spread evenly over the sky still does not show.
+//
+// A method whose answer does not survive the loss of a group (of frames or of sky) — it declines,
+// or finds the other pole — is unstable, and the estimate declines with that reason.
+//
+// From covariances to numbers (set_calibrated_uncertainty):
+//     C = a²·C_frames + b²·C_sectors + s²·I,   s² = floor² + (any per-answer terms)²
+// (a, b, s from the calibration, evaluate.h); σ_lat = √C_alt,alt; σ_bearing = √C_az,az / cos(alt)
+// (a tangent step d along the azimuth axis turns the azimuth by d/cos(alt)), capped at 180°;
 // cone95 = √(χ²₂(0.95)·λmax) = 2.448·√λmax, the radius of a circle that holds the 95 % ellipse
 // (conservative where the ellipse is elongated). σ_total = √λmax is the "σ" of the lie rate.
 //
-// What it cannot see: an error every frame shares (a bias from a cloud that stays put, a lens
-// model that does not fit) moves every jackknife answer alike. The calibration factor carries
-// the part of it the study measured; the gates in each method (skypole/README.md) the rest.
+// What neither sees: an error spread evenly over the sky and the frames (a lens model that does
+// not fit, a sky model wrong everywhere). The calibration's floor and its gates carry that part,
+// as far as the calibration population holds such cases.
 #pragma once
 
-#include <functional>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,30 +56,45 @@ void set_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& covariance_rad2);
 // both taken as the end of the axis that `at` reports (the NCP or the SCP above the horizon).
 Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other);
 
-struct JackknifeOptions {
-  int max_groups = 6;
-  double inflation = 1.0;      // calibration factor on σ (the method's, evaluate.cpp)
-  double floor_deg = 0.0;      // σ never below this (e.g. the pixel's angular size)
-};
-
 // The stack with only the frames whose keep[i] is 1 (keep has one entry per frame): what a
-// jackknife's sub-run sees, and what a refit from cached work must agree with.
+// frame jackknife's sub-run sees, and what a refit from cached work must agree with.
 stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8_t>& keep);
 
-// Runs `method` on the stack with one frame group left out at a time and sets `e`'s uncertainty
-// (set_uncertainty) or, if a sub-run fails or finds the other end of the axis, declines `e` with
-// the reason. `e` must be the method's valid answer on the whole stack. Stacks of fewer than 3
-// frames cannot be jackknifed: declined ("too few frames to measure the uncertainty").
-void jackknife_uncertainty(
-    PoleEstimate& e, const stack::Stack& stack,
-    const std::function<PoleEstimate(const stack::Stack&)>& method, const JackknifeOptions& options);
+// The azimuth sector (0 … sectors−1) of pixel (x, y) about the image point `centre_px`: the
+// angle atan2(y − cy, x − cx) from −180° cut into `sectors` equal parts.
+int sector_of(double x, double y, const Eigen::Vector2d& centre_px, int sectors);
 
-// The same jackknife for a method that can refit from work cached on the whole stack (e.g.
-// great_circle's per-pair circles, classic's per-frame images): `refit(keep)` answers with only
-// the frames whose keep[i] is 1 (keep has `frames` entries). Same groups, covariance and declines.
-void jackknife_uncertainty(PoleEstimate& e, int frames,
-                           const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
-                           const JackknifeOptions& options);
+// The stack with the pixels of sector `g` of `sectors` (sector_of) masked ("mask" = 0) in every
+// frame: what a sector jackknife's sub-run sees.
+stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& centre_px, int g, int sectors);
+
+// The delete-a-group jackknife's covariance (rad², tangent plane at `e`) from K sub-answers,
+// `sub(g)` being the answer without group g. Declines `e` and returns nullopt when a sub-run fails
+// or finds the other end of the axis; `what` names the groups in the reason ("frame group",
+// "sky sector").
+std::optional<Eigen::Matrix2d> group_jackknife(PoleEstimate& e, int groups,
+                                               const std::function<PoleEstimate(int g)>& sub,
+                                               const std::string& what);
+
+// The frame jackknife: K = min(frames, max_groups) interleaved groups; `refit(keep)` answers with
+// only the frames whose keep[i] is 1. Stacks of fewer than 3 frames cannot be jackknifed: `e` is
+// declined ("too few frames to measure the uncertainty") and nullopt returned.
+std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int frames,
+                                               const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
+                                               int max_groups = 6);
+
+// The sector jackknife: `method` runs on sector_left_out(stack, centre_px, g, sectors) for each g.
+std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
+                                                const std::function<PoleEstimate(const stack::Stack&)>& method,
+                                                const Eigen::Vector2d& centre_px, int sectors = 6);
+
+// √λmax of a covariance (rad²), in degrees: one jackknife's σ on its own.
+double sigma_deg_of(const Eigen::Matrix2d& covariance_rad2);
+
+// Sets `e`'s uncertainty from C = a²·frames + b²·sectors + floor_deg²·I (floor_deg: the root-sum-
+// square of every isotropic term) and keeps the raw covariances in `e` for the calibration study.
+void set_calibrated_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& frames_rad2, double a,
+                                const Eigen::Matrix2d& sectors_rad2, double b, double floor_deg);
 
 // The angle (degrees) between the rays of the principal point and of the pixel to its right: a
 // pixel's angular size at the centre of the image, the scale below which no method working on the

@@ -217,9 +217,11 @@ stack::Stack render_draw(const Draw& d, int binning) {
       render::apply_sensor(sensor, ro.bands, i, stack.frames[i], false);
     });
   }
+  // S1 and S2 are not read by any method (DoLP and AoLP are); S0 is: the sky mask's saturated and
+  // dark tests read it (sky_mask.h), as they do on a user's stack.
   for (stack::Frame& f : stack.frames)
     for (const std::string& b : ro.bands)
-      for (const char* c : {"S0.", "S1.", "S2."}) f.channels.erase(c + b);
+      for (const char* c : {"S1.", "S2."}) f.channels.erase(c + b);
   return stack;
 }
 
@@ -234,7 +236,8 @@ void study_calibration(const StudyOptions& o) {
               "sensor", "exposure_us", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
               "inside_cone", "lie", "residual_deg", "unpolarized_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
-              "estimate_s"});
+              "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
+              "sectors_aa_deg2", "sectors_ab_deg2", "sectors_bb_deg2", "estimate_s"});
   // One record per (scene, method), summarised per method and per method and sky model.
   struct Outcome {
     std::size_t method = 0;
@@ -331,6 +334,30 @@ void study_calibration(const StudyOptions& o) {
           .set("pole_y", e.pole_level.y())
           .set("pole_z", e.pole_level.z())
           .set("is_north", e.is_north);
+      // The raw jackknife covariances (uncertainty.h; deg², axes azimuth and altitude), so that
+      // scripts/calibration_tune.py can try any factors on them without running anything again.
+      const double d2 = 1.0 / (kDeg * kDeg);
+      const Eigen::Matrix2d& cf = e.jackknife_frames_rad2;
+      const Eigen::Matrix2d& cs = e.jackknife_sectors_rad2;
+      // The answer's offset from the true NCP in the tangent plane there (azimuth and altitude axes of
+      // the level frame, degrees): with it an average of answers can be scored to the digit, which
+      // the 6-digit truth columns cannot do for errors of 0.001°.
+      skypole::PoleEstimate truth_pole;
+      {
+        const double h = -d.heading * kDeg, lat = d.site.latitude_deg * kDeg;
+        truth_pole.pole_level = Eigen::Vector3d(std::sin(h) * std::cos(lat), std::cos(h) * std::cos(lat), std::sin(lat));
+        truth_pole.is_north = true;
+      }
+      const Eigen::Vector2d off = skypole::tangent_offset(truth_pole, e) / kDeg;
+      rows.set("offset_az_deg", off.x()).set("offset_alt_deg", off.y());
+      rows.set("sigma_frames_deg", skypole::sigma_deg_of(cf))
+          .set("sigma_sectors_deg", skypole::sigma_deg_of(cs))
+          .set("frames_aa_deg2", cf(0, 0) * d2)
+          .set("frames_ab_deg2", cf(0, 1) * d2)
+          .set("frames_bb_deg2", cf(1, 1) * d2)
+          .set("sectors_aa_deg2", cs(0, 0) * d2)
+          .set("sectors_ab_deg2", cs(0, 1) * d2)
+          .set("sectors_bb_deg2", cs(1, 1) * d2);
       if (s.bearing_error_deg) rows.set("bearing_error_deg", std::abs(*s.bearing_error_deg));
     }
     if (o.progress) std::fprintf(stderr, "calibration %d/%d\n", k + 1, count);
