@@ -1,22 +1,32 @@
 #!/usr/bin/python3
 """Read the methods' calibration off an uncalibrated run of the calibration study.
 
-    skypol tradeoff calibration --out DIR --seed 1 --count 300 --binning 16 \
+    skypol tradeoff calibration --out DIR --seed 1 --count 500 --binning 16 \
         --max-uncertainty inf --uncalibrated
-    scripts/calibration_tune.py DIR/calibration.csv [--bound 5] [--apply FILE]
+    scripts/calibration_tune.py DIR/calibration.csv [--bound 5] [--margin 0.7] [--apply FILE] [--auto MODE]
 
-An uncalibrated run states each answer's bare jackknife sigma (with a 0.05 deg floor) and keeps
-every answer the method itself gives (no gates, no bound), with the measures the gates read
-(residual, window, unpolarized share, ring anisotropy, pixel angle). So every calibration
-(skypole/evaluate.cpp, method_calibrations()) can be tried here without running anything again:
-    sigma^2 = (factor*sigma_jk)^2 + floor^2 + (share*max(0, residual - pixels*pixel_deg))^2,
+An uncalibrated run keeps every answer the method itself gives (no gates, no bound) with its raw
+jackknife covariances -- over frame groups (C_frames) and, for the methods that have one, over
+sky sectors (C_sectors; skypole/uncertainty.h) -- and the measures the gates and the per-answer
+terms read (residual, window, unpolarized share, ring anisotropy, pixel angle). So every
+calibration (skypole/evaluate.cpp, method_calibrations()) can be tried here without running
+anything again:
+    sigma^2 = lmax(a^2 C_frames + b^2 C_sectors) + floor^2 + (share*max(0, residual - pixels*pixel_deg))^2
+              + (u*unpolarized_share)^2,
 declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
-Per method it prints the calibration with zero lies and coverage in the 90-98 % band that keeps
-the most answers (ties: coverage nearest 95 %), gates set with a margin below the smallest value
-at which a lie was seen, and what auto (evaluate.h) makes of the calibrated answers.
---apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, floor, share, pixels,
-max_residual, min_window, max_unpolarized, max_anisotropy}}) instead of searching, e.g. on a
-held-out seed's uncalibrated run.
+Per method it prints the calibration with zero lies (counted at err > 5*margin*sigma) and coverage
+in the band [0.90, --max-coverage] that keeps the most answers (within 5 %: the fewest gates, then
+the fewest sigma terms, then coverage nearest 95 %), and what auto (evaluate.cpp,
+combine_estimates) makes of the calibrated answers.
+--apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
+pixels, max_residual, min_window, max_unpolarized, max_anisotropy}}; missing keys are 0 or no
+gate) instead of searching, e.g. on a held-out seed's uncalibrated run.
+--auto sharpest|mean|mean_raw: auto returns the agreeing answer with the smallest sigma, or the
+inverse-variance weighted mean of the agreeing answers, weighted by the calibrated sigma (mean) or
+by the raw jackknives' variance plus the uncalibrated run's 0.05 deg floor (mean_raw), stated with
+the sharpest member's sigma; all three are printed with --auto both (the default).
+A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
+from its sigma and C_sectors = 0.
 """
 import argparse
 import csv
@@ -32,6 +42,7 @@ LIE_DEG, LIE_SIGMA = 5.0, 5.0
 RAW_FLOOR = 0.05  # the uncalibrated run's floor
 MAX_COVERAGE = 0.98
 MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leaves room for a held-out seed
+SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "invariance")  # evaluate.cpp has_sector_jackknife
 
 
 def fnum(s):
@@ -45,32 +56,70 @@ def load(path):
         m = r["method"]
         if m == "auto":
             continue
-        d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "sjk", "res", "window", "unpol",
-                                               "aniso", "pixel", "pole", "north")})
+        d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "cf", "cs", "res", "window", "unpol",
+                                               "aniso", "pixel", "off")})
         d["stack"].append(int(r["stack"]))
         d["sky"].append(r["sky"])
         v = r["valid"] == "1"
         d["valid"].append(v)
         d["err"].append(fnum(r["angular_error_deg"]) if v else math.nan)
-        s = fnum(r["sigma_deg"]) if v else math.nan
-        d["sjk"].append(math.sqrt(max(s * s - RAW_FLOOR ** 2, 0.0)) if v else math.nan)
+        if v and r.get("frames_aa_deg2", "") != "":
+            d["cf"].append([fnum(r["frames_aa_deg2"]), fnum(r["frames_ab_deg2"]), fnum(r["frames_bb_deg2"])])
+            d["cs"].append([fnum(r["sectors_aa_deg2"]), fnum(r["sectors_ab_deg2"]), fnum(r["sectors_bb_deg2"])])
+            d["off"].append([fnum(r["offset_az_deg"]), fnum(r["offset_alt_deg"])])
+        elif v:  # a run before the sector jackknife: the frame jackknife's sigma, isotropic
+            s = fnum(r["sigma_deg"])
+            s2 = max(s * s - RAW_FLOOR ** 2, 0.0)
+            d["cf"].append([s2, 0.0, s2])
+            d["cs"].append([0.0, 0.0, 0.0])
+            d["off"].append(offset_from_pole(r))
+        else:
+            d["cf"].append([0.0, 0.0, 0.0])
+            d["cs"].append([0.0, 0.0, 0.0])
+            d["off"].append([math.nan, math.nan])
         d["res"].append(fnum(r["residual_deg"]) if v else math.nan)
         d["window"].append(fnum(r["window_min"]))
         d["unpol"].append(fnum(r["unpolarized_share"]))
         d["aniso"].append(fnum(r.get("ring_anisotropy", "0") or "0"))
         d["pixel"].append(fnum(r["pixel_deg"]))
-        d["pole"].append([fnum(r["pole_x"]), fnum(r["pole_y"]), fnum(r["pole_z"])] if v else [math.nan] * 3)
-        d["north"].append(r["is_north"] == "1" if v else False)
     for m, d in by.items():
         for k in d:
             d[k] = np.array(d[k])
     return by
 
 
+def offset_from_pole(r):
+    """The answer's offset (deg) from the true NCP in the tangent plane there, from the 6-digit pole
+    and truth columns of an older run (good to ~0.003 deg; newer runs write it exactly)."""
+    h, lat = math.radians(-fnum(r["heading_deg"])), math.radians(fnum(r["latitude_deg"]))
+    t = np.array([math.sin(h) * math.cos(lat), math.cos(h) * math.cos(lat), math.sin(lat)])
+    p = np.array([fnum(r["pole_x"]), fnum(r["pole_y"]), fnum(r["pole_z"])])
+    p = p if r["is_north"] == "1" else -p
+    e_az = np.array([math.cos(h), -math.sin(h), 0.0])
+    e_alt = np.array([-math.sin(lat) * math.sin(h), -math.sin(lat) * math.cos(h), math.cos(lat)])
+    perp = p - p.dot(t) * t
+    if np.linalg.norm(perp) < 1e-15:
+        return [0.0, 0.0]
+    v = perp / np.linalg.norm(perp) * math.atan2(np.linalg.norm(perp), p.dot(t))
+    return [math.degrees(v.dot(e_az)), math.degrees(v.dot(e_alt))]
+
+
+def lmax(aa, ab, bb):
+    """Largest eigenvalue of the symmetric 2x2 [[aa, ab], [ab, bb]]."""
+    return 0.5 * (aa + bb) + np.sqrt(0.25 * (aa - bb) ** 2 + ab ** 2)
+
+
+def sigma_of(d, c):
+    a, b = c.get("factor", 1.0), c.get("sector", 0.0)
+    C = a * a * d["cf"] + b * b * d["cs"]
+    excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
+    iso = c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
+    return np.sqrt(np.maximum(lmax(C[:, 0], C[:, 1], C[:, 2]), 0.0) + iso)
+
+
 def apply(d, c, bound):
     """Calibrated (valid, sigma) of every row of one method under calibration c."""
-    excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
-    sigma = np.sqrt((c["factor"] * np.nan_to_num(d["sjk"])) ** 2 + c["floor"] ** 2 + (c.get("share", 0.0) * excess) ** 2)
+    sigma = sigma_of(d, c)
     ok = d["valid"].copy()
     ok &= ~(np.nan_to_num(d["res"], nan=1e9) > c.get("max_residual", math.inf))
     ok &= ~(d["window"] < c.get("min_window", 0.0))
@@ -89,16 +138,18 @@ def stats(d, ok, sigma, sel=None):
     lies = int(np.sum((err > LIE_DEG) | (err > LIE_SIGMA * sg)))
     inside = int(np.sum(err <= K95 * sg))
     v = int(ok.sum())
-    return {"n": n, "valid": v, "yield": v / n if n else math.nan, "lies": lies,
-            "coverage": inside / v if v else math.nan, "median": float(np.median(err)) if v else math.nan,
+    return {"n": n, "valid": v, "yield": round(v / n, 4) if n else math.nan, "lies": lies,
+            "coverage": round(inside / v, 4) if v else math.nan, "median": float(np.median(err)) if v else math.nan,
             "max": float(err.max()) if v else math.nan}
 
 
 def search(m, d, bound):
     factors = [0.5, 0.75, 1, 1.5, 2, 3, 4, 6, 8, 12, 16]
-    floors = [0.0, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.25, 1.5, 1.75, 2.0]
-    shares = [0.0] if m != "classic" else [0.25, 0.5, 0.75, 1.0]
-    pixels = [0.0] if m != "classic" else [0, 1, 2, 3, 4, 5, 6]
+    sectors = [0.0] if m not in SECTOR_METHODS else [0.0, 0.25, 0.5, 0.75, 1, 1.5, 2, 3]
+    floors = [0.0, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.25, 1.5, 2.0]
+    unpols = [0.0, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0]
+    shares = [0.0] if m != "classic" else [0.25, 0.5, 1.0]
+    pixels = [0.0] if m != "classic" else [0, 2, 4, 6]
     # Candidate gate thresholds (none, or one of a few round values); each gate's pass mask once.
     # great_circle and invariance always keep a residual gate: a residual of 180° is invariance's
     # unsettled fit, and seed 1 cannot show every way a fit fails.
@@ -107,66 +158,76 @@ def search(m, d, bound):
         res_c = [math.inf] + res_c
     if m == "classic":
         res_c = [math.inf]
-    win_c = [0.0, 30, 60, 90, 120, 180]
-    unpol_c = [math.inf, 0.4, 0.3, 0.25, 0.2, 0.15, 0.1, 0.05, 0.03, 0.02]
-    aniso_c = [math.inf, 0.5, 0.4, 0.3, 0.2, 0.15, 0.1, 0.08, 0.06]
+    win_c = [0.0, 60, 120]
+    unpol_c = [math.inf, 0.5, 0.4, 0.3, 0.25]
+    aniso_c = [math.inf, 0.5, 0.4, 0.3, 0.2, 0.1]
     gates, masks = [], []
     res = np.nan_to_num(d["res"], nan=1e9)
     for mr, mw, mu, ma in itertools.product(res_c, win_c, unpol_c, aniso_c):
         gates.append({"max_residual": mr, "min_window": mw, "max_unpolarized": mu, "max_anisotropy": ma})
         masks.append(d["valid"] & ~(res > mr) & ~(d["window"] < mw) & ~(d["unpol"] > mu) & ~(d["aniso"] > ma))
-    G = np.array(masks, dtype=np.int64)  # gates x rows
+    G = np.array(masks, dtype=np.float64)  # gates x rows
     ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"]) if math.isfinite(x))
                        + (g["min_window"] > 0) for g in gates])
     err = np.nan_to_num(d["err"], nan=1e9)
+    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels))
     found = []
-    for f, fl, sh, px in itertools.product(factors, floors, shares, pixels):
-        c = {"factor": f, "floor": fl, "share": sh, "pixels": px}
-        excess = np.maximum(0.0, np.nan_to_num(d["res"]) - px * d["pixel"])
-        sigma = np.sqrt((f * np.nan_to_num(d["sjk"])) ** 2 + fl ** 2 + (sh * excess) ** 2)
-        cone_ok = (K95 * sigma <= bound).astype(np.int64)
-        lie = ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)).astype(np.int64)
-        inside = (err <= K95 * sigma).astype(np.int64)
-        valid = G @ cone_ok
-        lies = G @ (cone_ok * lie)
-        ins = G @ (cone_ok * inside)
+    chunk = 512
+    for start in range(0, len(combos), chunk):
+        part = combos[start:start + chunk]
+        cone_ok, lie_v, inside_v = [], [], []
+        for f, b, fl, u, sh, px in part:
+            sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px})
+            ok = K95 * sigma <= bound
+            cone_ok.append(ok)
+            lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
+            inside_v.append(ok & (err <= K95 * sigma))
+        V = G @ np.array(cone_ok, dtype=np.float64).T  # gates x combos
+        L = G @ np.array(lie_v, dtype=np.float64).T
+        I = G @ np.array(inside_v, dtype=np.float64).T
         with np.errstate(invalid="ignore", divide="ignore"):
-            cov = np.where(valid > 0, ins / np.maximum(valid, 1), np.nan)
-        good = (valid > 0) & (lies == 0) & (cov >= 0.90) & (cov <= MAX_COVERAGE)
-        for g in np.nonzero(good)[0]:
-            found.append((int(valid[g]), float(cov[g]), int(ngates[g]), {**c, **gates[g]}))
+            cov = np.where(V > 0, I / np.maximum(V, 1), np.nan)
+        good = (V > 0) & (L == 0) & (cov >= 0.90) & (cov <= MAX_COVERAGE)
+        for g, j in zip(*np.nonzero(good)):
+            f, b, fl, u, sh, px = part[j]
+            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0)
+            found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
+                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, **gates[g]}))
     if not found:
         return None
     # Within 5 % of the most answers any calibration keeps: the fewest gates (each is a chance to
-    # fit seed 1's accidents), then the coverage nearest 95 % (the middle of the band, so that a
-    # held-out seed has room either side), then the most answers.
-    most = max(v for v, _, _, _ in found)
+    # fit seed 1's accidents), the fewest sigma terms, then the coverage nearest 95 % (the middle of
+    # the band, so that a held-out seed has room either side), then the most answers.
+    most = max(x[0] for x in found)
     near = [x for x in found if x[0] >= 0.95 * most]
-    near.sort(key=lambda x: (x[2], round(abs(x[1] - 0.95), 3), -x[0], x[3]["floor"], x[3]["factor"]))
-    return near[0][0], near[0][3]
+    near.sort(key=lambda x: (x[2], x[3], round(abs(x[1] - 0.95), 3), -x[0], x[4]["floor"], x[4]["factor"]))
+    return near[0][0], near[0][4]
 
 
-def combine(by, cal, bound, site_known=True):
-    """auto over the calibrated answers (evaluate.cpp combine_estimates), per stack."""
-    methods = [m for m in by if site_known or m != "sun_vector_ephemeris"]
+def combine(by, cal, bound, mode="sharpest", site_known=True):
+    """auto over the calibrated answers (evaluate.cpp combine_estimates), per stack: the agreeing
+    group about the answer most others agree with; its sharpest answer (mode "sharpest") or the
+    inverse-variance weighted mean of its answers (mode "mean"), stated with the sharpest's sigma.
+    Angles between answers and the mean's error come from each answer's offset from the truth in
+    the tangent plane there (small angles: the agreement test is at most ~11°)."""
+    methods = [m for m in by if (site_known or m != "sun_vector_ephemeris") and m in cal]
     n = len(next(iter(by.values()))["stack"])
     out_ok = np.zeros(n, bool)
     out_err = np.full(n, math.nan)
     out_sigma = np.full(n, math.nan)
-    applied = {m: apply(by[m], cal[m], bound) for m in methods if m in cal}
+    applied = {m: apply(by[m], cal[m], bound) for m in methods}
     for k in range(n):
         cands = []
         for m, (ok, sigma) in applied.items():
             if ok[k]:
-                cands.append((m, by[m]["pole"][k], K95 * sigma[k], sigma[k], by[m]["err"][k]))
+                raw = by[m]["cf"][k] + by[m]["cs"][k]
+                cands.append((m, by[m]["off"][k], K95 * sigma[k], sigma[k], by[m]["err"][k],
+                              float(lmax(*raw)) + RAW_FLOOR ** 2))
         if not cands:
             continue
 
-        def ang(a, b):
-            return math.degrees(math.acos(max(-1.0, min(1.0, float(np.dot(a, b))))))
-
         def agree(a, b):
-            return ang(a[1], b[1]) <= AGREE * math.hypot(a[2], b[2])
+            return float(np.hypot(*(a[1] - b[1]))) <= AGREE * math.hypot(a[2], b[2])
 
         centre, best = None, -1
         for a in cands:
@@ -180,9 +241,35 @@ def combine(by, cal, bound, site_known=True):
         if sharp[2] > bound:
             continue
         out_ok[k] = True
-        out_err[k] = sharp[4]
         out_sigma[k] = sharp[3]
+        if mode in ("mean", "mean_raw") and len(members) > 1:
+            w = np.array([1.0 / (b[3] ** 2 if mode == "mean" else b[5]) for b in members])
+            mean = sum(wi * b[1] for wi, b in zip(w, members)) / w.sum()
+            out_err[k] = float(np.hypot(*mean))
+        else:
+            out_err[k] = sharp[4]
     return out_ok, out_err, out_sigma
+
+
+def auto_report(by, cal, bound, mode):
+    ok, err, sigma = combine(by, cal, bound, mode)
+    v = int(ok.sum())
+    e = err[ok]
+    print(f"auto ({mode}) all", {"valid": v, "yield": round(v / len(ok), 4),
+                                 "lies": int(np.sum((e > LIE_DEG) | (e > LIE_SIGMA * sigma[ok]))),
+                                 "coverage": round(float(np.mean(e <= K95 * sigma[ok])), 4) if v else math.nan,
+                                 "median": float(np.median(e)) if v else math.nan})
+    # auto against each method on the stacks where both answer.
+    for m, d in by.items():
+        if m not in cal:
+            continue
+        mok, _ = apply(d, cal[m], bound)
+        both = ok & mok
+        if both.sum() == 0:
+            continue
+        print(f"  vs {m}: common {int(both.sum())}, medians {float(np.median(d['err'][both])):.4g} (method) "
+              f"{float(np.median(err[both])):.4g} (auto); method only {int((mok & ~ok).sum())}, auto only "
+              f"{int((ok & ~mok).sum())}")
 
 
 def main():
@@ -190,6 +277,7 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("--bound", type=float, default=5.0)
     ap.add_argument("--apply")
+    ap.add_argument("--auto", default="both", choices=["sharpest", "mean", "mean_raw", "both"])
     ap.add_argument("--max-coverage", type=float, default=0.98,
                     help="upper end of the coverage band the search accepts (1: any zero-lie calibration)")
     ap.add_argument("--margin", type=float, default=1.0,
@@ -206,7 +294,7 @@ def main():
         for m, d in by.items():
             best = search(m, d, a.bound)
             if best is None:
-                print(f"{m}: no calibration meets zero lies and 90-98 % coverage")
+                print(f"{m}: no calibration meets zero lies and 90-{100 * MAX_COVERAGE:.0f} % coverage")
                 continue
             cal[m] = best[1]
         print(json.dumps(cal, indent=1))
@@ -218,12 +306,8 @@ def main():
         print(m, "all", stats(d, ok, sigma))
         for sky in skies:
             print(m, sky, stats(d, ok, sigma, d["sky"] == sky))
-    ok, err, sigma = combine(by, cal, a.bound)
-    v = int(ok.sum())
-    e = err[ok]
-    print("auto all", {"valid": v, "yield": v / len(ok), "lies": int(np.sum((e > LIE_DEG) | (e > LIE_SIGMA * sigma[ok]))),
-                       "coverage": float(np.mean(e <= K95 * sigma[ok])) if v else math.nan,
-                       "median": float(np.median(e)) if v else math.nan})
+    for mode in (["sharpest", "mean", "mean_raw"] if a.auto == "both" else [a.auto]):
+        auto_report(by, cal, a.bound, mode)
 
 
 if __name__ == "__main__":
