@@ -25,6 +25,7 @@ gate) instead of searching, e.g. on a held-out seed's uncalibrated run.
 inverse-variance weighted mean of the agreeing answers, weighted by the calibrated sigma (mean) or
 by the raw jackknives' variance plus the uncalibrated run's 0.05 deg floor (mean_raw), stated with
 the sharpest member's sigma; all three are printed with --auto both (the default).
+--plot FILE.png: the reliability diagram (stated 95 % cone against error; share inside per bin).
 A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
 from its sigma and C_sectors = 0.
 """
@@ -277,6 +278,7 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("--bound", type=float, default=5.0)
     ap.add_argument("--apply")
+    ap.add_argument("--plot", help="write the reliability diagram of the calibration (PNG) here")
     ap.add_argument("--auto", default="both", choices=["sharpest", "mean", "mean_raw", "both"])
     ap.add_argument("--max-coverage", type=float, default=0.98,
                     help="upper end of the coverage band the search accepts (1: any zero-lie calibration)")
@@ -308,6 +310,58 @@ def main():
             print(m, sky, stats(d, ok, sigma, d["sky"] == sky))
     for mode in (["sharpest", "mean", "mean_raw"] if a.auto == "both" else [a.auto]):
         auto_report(by, cal, a.bound, mode)
+    if a.plot:
+        plot(by, cal, a.bound, a.plot, a.auto if a.auto != "both" else "sharpest")
+
+
+def plot(by, cal, bound, path, mode):
+    """The reliability diagram of scripts/benchmarks' section 7 for this calibration: each valid
+    answer's stated 95 % cone against its error, and the share inside the cone per bin of cone."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    series = []
+    for m, d in by.items():
+        if m in cal:
+            ok, sigma = apply(d, cal[m], bound)
+            series.append((m, K95 * sigma[ok], d["err"][ok]))
+    ok, err, sigma = combine(by, cal, bound, mode)
+    series.append(("auto", K95 * sigma[ok], err[ok]))
+    for i, (m, x, y) in enumerate(series):
+        if len(x) == 0:
+            continue
+        x = np.maximum(x, 1e-3)
+        y = np.maximum(y, 1e-4)
+        c = colors[i % len(colors)]
+        axes[0].scatter(x, y, s=8, alpha=0.5, color=c, label=f"{m} ({len(x)})")
+        edges = np.logspace(np.log10(x.min()) - 1e-9, np.log10(x.max()) + 1e-9, 6)
+        xs, cov = [], []
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            sel = (x >= lo) & (x <= hi)
+            if sel.sum() >= 3:
+                xs.append(math.sqrt(lo * hi))
+                cov.append(float(np.mean(y[sel] <= x[sel])))
+        if xs:
+            axes[1].plot(xs, cov, "o-", color=c, label=m)
+    lim = [1e-3, 180]
+    axes[0].set_xlim(lim); axes[0].set_ylim(1e-4, 180); axes[1].set_xlim(lim)
+    axes[0].plot(lim, lim, "k--", lw=1, label="error = stated 95 % cone")
+    axes[0].axhline(5, color="red", lw=0.8, ls=":", label="5° (a lie above)")
+    axes[0].set_xscale("log"); axes[0].set_yscale("log")
+    axes[0].set_xlabel("stated 95 % cone (deg)"); axes[0].set_ylabel("observed angular error (deg)")
+    axes[0].grid(alpha=0.3, which="both")
+    axes[1].axhspan(0.90, 0.98, color="green", alpha=0.15, label="target 90–98 %")
+    axes[1].axhline(0.95, color="k", lw=0.8, ls="--")
+    axes[1].set_xscale("log"); axes[1].set_ylim(0, 1.02)
+    axes[1].set_xlabel("stated 95 % cone (deg), binned"); axes[1].set_ylabel("share inside the cone")
+    axes[1].grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path + ".tmp.png", dpi=110)
+    import os
+    os.replace(path + ".tmp.png", path)
 
 
 if __name__ == "__main__":
