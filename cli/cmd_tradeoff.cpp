@@ -1,6 +1,7 @@
 // `skypol tradeoff STUDY --out DIR [--small]`: what accuracy costs in time, measured by calling the
 // libraries directly (studies/tradeoff_studies.h). Writes CSV tables and meta.csv (how they were
 // made); scripts/benchmarks turns them into docs/benchmarks.md and its plots.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -10,6 +11,7 @@
 #include <tbb/info.h>
 
 #include "cli/commands.h"
+#include "skypole/evaluate.h"
 #include "studies/tradeoff_studies.h"
 #include "studies/tradeoff_table.h"
 
@@ -35,6 +37,9 @@ void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& whi
   meta.row().set("key", "uncalibrated").set("value", o.uncalibrated);
   meta.row().set("key", "no_cloud_gate").set("value", o.no_cloud_gate);
   meta.row().set("key", "no_sky_mask").set("value", o.no_sky_mask);
+  std::string methods;
+  for (const std::string& m : o.methods) methods += (methods.empty() ? "" : ",") + m;
+  meta.row().set("key", "methods").set("value", methods.empty() ? std::string("all") : methods);
   meta.row().set("key", "threads").set("value", tbb::info::default_concurrency());
   meta.row().set("key", "compiler").set("value", std::string("GCC ") + __VERSION__);
 #ifdef __OPTIMIZE__
@@ -79,6 +84,9 @@ void add_tradeoff(CLI::App& app) {
                 "calibration: without the whole-sky cloud gate (skypole/cloud_share.h)");
   cmd->add_flag("--no-sky-mask", a->options.no_sky_mask,
                 "calibration: the methods fit every sky pixel (no per-pixel mask, skypole/sky_mask.h)");
+  cmd->add_option("--methods", a->options.methods,
+                  "calibration: run only these methods, comma-separated (and auto over them; default: every method)")
+      ->delimiter(',');
   cmd->callback([a] {
     std::vector<const studies::tradeoff::Study*> run;
     for (const studies::tradeoff::Study& s : studies::tradeoff::studies())
@@ -87,6 +95,16 @@ void add_tradeoff(CLI::App& app) {
       std::string legal = "all";
       for (const studies::tradeoff::Study& s : studies::tradeoff::studies()) legal += ", " + s.name;
       throw std::invalid_argument("tradeoff: unknown study \"" + a->study + "\" (expected one of " + legal + ")");
+    }
+    for (const std::string& m : a->options.methods) {
+      const auto& legal_names = skypole::method_names();
+      if (m == "auto" || std::find(legal_names.begin(), legal_names.end(), m) == legal_names.end()) {
+        std::string legal;
+        for (const std::string& n : legal_names)
+          if (n != "auto") legal += (legal.empty() ? "" : ", ") + n;
+        throw std::invalid_argument("tradeoff: --methods: unknown method \"" + m + "\" (expected one of " + legal +
+                                    "; auto always runs)");
+      }
     }
     std::filesystem::create_directories(a->options.out_dir);
     const auto t0 = std::chrono::steady_clock::now();

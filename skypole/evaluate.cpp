@@ -359,11 +359,14 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   Eigen::Matrix2d sectors = Eigen::Matrix2d::Zero();
   if (has_sector_jackknife(method)) {
     // Sectors about the principal point, so that each holds a sixth of the sky; invariance reads
-    // the sky around its pole, so its sectors are taken about the pole (each takes a wedge of it).
+    // the sky around its pole, so its sectors are taken about the pole, each a wedge beyond 10° of
+    // it (with the pole itself masked, or on the edge of the usable image, it would only decline).
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
-    const Eigen::Vector2d centre = method == "invariance" && e.pixel ? *e.pixel : Eigen::Vector2d(k.cx, k.cy);
-    const auto s = sector_jackknife(e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
-                                    centre);
+    const bool about_pole = method == "invariance" && e.pixel;
+    const Eigen::Vector2d centre = about_pole ? *e.pixel : Eigen::Vector2d(k.cx, k.cy);
+    const double guard_px = about_pole ? 10.0 / std::max(pixel_angle_deg(*stack.camera), 1e-6) : 0.0;
+    const auto s = sector_jackknife(
+        e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); }, centre, 6, guard_px);
     if (!s) return e;
     sectors = *s;
   }

@@ -248,6 +248,12 @@ void study_calibration(const StudyOptions& o) {
   };
   std::vector<Outcome> outcomes;
   std::vector<std::string> methods = skypole::method_names();
+  if (!o.methods.empty()) {
+    // A subset, in the order given (checked by the command line), and auto over it (last, as the
+    // summaries expect).
+    methods = o.methods;
+    methods.push_back("auto");
+  }
   skypole::InputOptions input;
   input.max_uncertainty_deg = o.max_uncertainty_deg;
   input.calibrated = !o.uncalibrated;

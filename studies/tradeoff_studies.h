@@ -29,6 +29,9 @@ struct StudyOptions {
   // calibration: without the whole-sky cloud gate / without the per-pixel sky mask (before/after).
   bool no_cloud_gate = false;
   bool no_sky_mask = false;
+  // calibration: run only these methods (and auto over them); empty: every method. To re-measure
+  // one method after a change to it without running the others again.
+  std::vector<std::string> methods;
 };
 
 struct Study {

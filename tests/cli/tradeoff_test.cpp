@@ -400,6 +400,40 @@ TEST_CASE("skypol tradeoff refuses an unknown study and writes nothing", "[cli][
   CHECK(r.out.find("lens_inverse") != std::string::npos);  // the legal names are listed
   CHECK(!fs::exists(out));
   CHECK(run("tradeoff spp").code != 0);  // --out is required
+  // calibration --methods: an unknown method (or auto, which always runs) is refused before
+  // anything is written, with the legal names.
+  for (const char* bad : {"sun_vektor", "auto"}) {
+    const Result m = run("tradeoff calibration --small --methods sun_vector," + std::string(bad) + " --out " + out.string());
+    CHECK(m.code == 2);
+    CHECK(m.out.find("unknown method \"" + std::string(bad) + "\"") != std::string::npos);
+    CHECK(m.out.find("sun_vector_ephemeris") != std::string::npos);
+    CHECK(!fs::exists(out));
+  }
+}
+
+TEST_CASE("skypol tradeoff calibration --methods: only those methods, and auto over them", "[cli][tradeoff][calibration]") {
+  TempDir tmp;
+  const fs::path out = tmp.path / "cal";
+  const Result r = run("tradeoff calibration --small --count 2 --methods sun_dolp,invariance --uncalibrated "
+                       "--max-uncertainty inf --out " + out.string());
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  const Csv t = read_csv(out / "calibration.csv");
+  REQUIRE(t.rows.size() == 2 * 3);
+  const std::vector<std::string> order = {"sun_dolp", "invariance", "auto"};
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const auto& row = t.rows[i];
+    CHECK(row.at("method") == order[i % 3]);
+    if (row.at("valid") != "1" || row.at("method") == "auto") continue;
+    // Uncalibrated: the stated σ is √(λmax(C_frames + C_sectors) + 0.05²), so at least the larger
+    // of the two jackknives' σ and at most their root-sum-square with the floor.
+    const double s = num(row, "sigma_deg"), f = num(row, "sigma_frames_deg"), c = num(row, "sigma_sectors_deg");
+    CHECK(s >= std::max(f, c) * (1 - 1e-4));
+    CHECK(s <= std::sqrt(f * f + c * c + 0.05 * 0.05) * (1 + 1e-4));
+    // The offset from the truth is the angular error, in the tangent plane at the truth.
+    CHECK(std::hypot(num(row, "offset_az_deg"), num(row, "offset_alt_deg")) ==
+          Approx(num(row, "angular_error_deg")).epsilon(1e-3).margin(1e-6));
+  }
 }
 
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
