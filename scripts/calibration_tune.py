@@ -21,10 +21,13 @@ combine_estimates) makes of the calibrated answers.
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
 pixels, max_residual, min_window, max_unpolarized, max_anisotropy}}; missing keys are 0 or no
 gate) instead of searching, e.g. on a held-out seed's uncalibrated run.
---auto sharpest|mean|mean_raw: auto returns the agreeing answer with the smallest sigma, or the
+--auto ranked|sharpest|mean|mean_raw: auto returns the agreeing answer of the most accurate method
+(RANK; what evaluate.cpp does), the agreeing answer with the smallest sigma, or the
 inverse-variance weighted mean of the agreeing answers, weighted by the calibrated sigma (mean) or
 by the raw jackknives' variance plus the uncalibrated run's 0.05 deg floor (mean_raw), stated with
-the sharpest member's sigma; all three are printed with --auto both (the default).
+the sharpest member's sigma; all four are printed with --auto both (the default).
+--replace RERUN.csv: the rows of the methods a `--methods` re-run of the same seed and count holds
+replace the run's (one method changed after the run).
 --plot FILE.png: the reliability diagram (stated 95 % cone against error; share inside per bin).
 A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
 from its sigma and C_sectors = 0.
@@ -43,6 +46,9 @@ LIE_DEG, LIE_SIGMA = 5.0, 5.0
 RAW_FLOOR = 0.05  # the uncalibrated run's floor
 MAX_COVERAGE = 0.98
 MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leaves room for a held-out seed
+# auto (evaluate.cpp, auto_rank()): the agreeing answer of the first method in this order, the
+# methods by the median error of their calibrated answers on seed 1 (the tuning seed).
+RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
 SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "invariance")  # evaluate.cpp has_sector_jackknife
 
 
@@ -50,8 +56,15 @@ def fnum(s):
     return float(s) if s not in ("", None) else math.nan
 
 
-def load(path):
+def load(path, replace=None):
     rows = list(csv.DictReader(open(path)))
+    if replace:
+        # A `--methods` re-run: its methods' rows replace the run's (same seed and count: the same
+        # scenes, in the same order).
+        extra = [r for r in csv.DictReader(open(replace)) if r["method"] != "auto"]
+        redo = {r["method"] for r in extra}
+        rows = [r for r in rows if r["method"] not in redo] + extra
+        rows.sort(key=lambda r: int(r["stack"]))
     by = {}
     for r in rows:
         m = r["method"]
@@ -152,11 +165,11 @@ def search(m, d, bound):
     shares = [0.0] if m != "classic" else [0.25, 0.5, 1.0]
     pixels = [0.0] if m != "classic" else [0, 2, 4, 6]
     # Candidate gate thresholds (none, or one of a few round values); each gate's pass mask once.
-    # great_circle and invariance always keep a residual gate: a residual of 180° is invariance's
-    # unsettled fit, and seed 1 cannot show every way a fit fails.
-    res_c = [2.0, 1.0, 0.5, 0.3, 0.2, 0.1, 0.05]
-    if m not in ("great_circle", "invariance"):
-        res_c = [math.inf] + res_c
+    # Every method but classic keeps a residual gate: seed 1 cannot show every way a fit fails (a
+    # residual of 180° is invariance's unsettled fit; held-out seed 4 held a saturated mono sensor
+    # whose sun_vector_ephemeris fit had a residual of 10.6° and an error of 10.5°, which neither
+    # jackknife sees: every frame and every part of the sky was saturated alike).
+    res_c = [5.0, 2.0, 1.0, 0.5, 0.3, 0.2, 0.1, 0.05]
     if m == "classic":
         res_c = [math.inf]
     win_c = [0.0, 60, 120]
@@ -239,6 +252,8 @@ def combine(by, cal, bound, mode="sharpest", site_known=True):
         if len(members) <= len(cands) - len(members) and len(cands) > 1:
             continue
         sharp = min(members, key=lambda b: b[3])
+        if mode == "ranked":  # the most accurate method of the calibration study that agrees
+            sharp = min(members, key=lambda b: RANK.index(b[0]) if b[0] in RANK else len(RANK))
         if sharp[2] > bound:
             continue
         out_ok[k] = True
@@ -278,8 +293,10 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("--bound", type=float, default=5.0)
     ap.add_argument("--apply")
+    ap.add_argument("--replace", help="calibration.csv of a --methods re-run of the same seed and count: its "
+                    "methods' rows replace those of CSV")
     ap.add_argument("--plot", help="write the reliability diagram of the calibration (PNG) here")
-    ap.add_argument("--auto", default="both", choices=["sharpest", "mean", "mean_raw", "both"])
+    ap.add_argument("--auto", default="both", choices=["sharpest", "ranked", "mean", "mean_raw", "both"])
     ap.add_argument("--max-coverage", type=float, default=0.98,
                     help="upper end of the coverage band the search accepts (1: any zero-lie calibration)")
     ap.add_argument("--margin", type=float, default=1.0,
@@ -288,7 +305,7 @@ def main():
     global MAX_COVERAGE, MARGIN
     MAX_COVERAGE = a.max_coverage
     MARGIN = a.margin
-    by = load(a.csv)
+    by = load(a.csv, a.replace)
     if a.apply:
         cal = json.load(open(a.apply))
     else:
@@ -308,7 +325,7 @@ def main():
         print(m, "all", stats(d, ok, sigma))
         for sky in skies:
             print(m, sky, stats(d, ok, sigma, d["sky"] == sky))
-    for mode in (["sharpest", "mean", "mean_raw"] if a.auto == "both" else [a.auto]):
+    for mode in (["sharpest", "ranked", "mean", "mean_raw"] if a.auto == "both" else [a.auto]):
         auto_report(by, cal, a.bound, mode)
     if a.plot:
         plot(by, cal, a.bound, a.plot, a.auto if a.auto != "both" else "sharpest")

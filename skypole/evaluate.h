@@ -28,10 +28,11 @@ const std::vector<std::string>& method_names();
 //
 // "auto" runs every method the stack allows, each as above: sun_vector_ephemeris only when the
 // stack knows its site and times (stack.site_known; an imported capture without [site] does not).
-// Two answers agree when their angle is within the root-sum-square of their 95 % cones; the
-// answer most others agree with is the centre; of the agreeing group, auto returns the answer
-// with the smallest calibrated σ, with that σ (the methods read the same frames, so their errors
-// are correlated and an average would state less uncertainty than the data hold). auto declines
+// Two answers agree when their angle is within 1.52 × the root-sum-square of their 95 % cones
+// (the 99.9 % level); the answer most others agree with is the centre; of the agreeing group, auto
+// returns the answer of the method that was most accurate in the calibration study (auto_rank()),
+// with its σ (the methods read the same frames, so their errors are correlated and an average
+// would state less uncertainty than the data hold; it was also less accurate). auto declines
 // when no method answers, or when the agreeing group is no larger than the dissenting answers
 // (the data do not decide); the note names the answer's method, the agreeing, the outvoted and
 // the declined methods with their reasons.
@@ -44,6 +45,9 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
 PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& input,
                                const std::vector<PoleEstimate>& estimates);
 bool used_by_auto(std::string_view method, bool site_known);
+// The methods by the median error of their calibrated answers on the calibration study's tuning
+// seed, most accurate first: the order in which auto prefers an agreeing answer.
+const std::vector<std::string>& auto_rank();
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seed 1
 // (docs/benchmarks.md, section 7). The stated covariance is
