@@ -9,7 +9,7 @@
 // with error > 5°, or > 5σ), the coverage (share of valid answers whose 95 % cone holds the
 // truth), the error distribution, and the σ factor that would have made the coverage exactly
 // 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seed 1, with
-// scripts/calibration_tune.py; the checks in docs/benchmarks.md use seeds 2 and 3). The same per
+// scripts/calibration_tune.py; the checks in docs/benchmarks.md use seeds 3 and 4). The same per
 // sky model (calibration_by_sky.csv), and auto against each method on the scenes both answer
 // (calibration_auto.csv).
 #include <algorithm>
