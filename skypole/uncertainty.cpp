@@ -80,7 +80,7 @@ int sector_of(double x, double y, const Eigen::Vector2d& c, int sectors) {
   return std::clamp(static_cast<int>(t * sectors), 0, sectors - 1);
 }
 
-stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c, int g, int sectors, double guard_px) {
+stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c, int g, int sectors) {
   stack::Stack sub = stack;
   for (stack::Frame& f : sub.frames) {
     const std::size_t n = static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height);
@@ -88,7 +88,7 @@ stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c
     if (mask.size() != n) mask.assign(n, 1.0f);  // a stack without a mask: every pixel was usable
     for (int y = 0; y < f.height; ++y)
       for (int x = 0; x < f.width; ++x)
-        if (sector_of(x, y, c, sectors) == g && std::hypot(x - c.x(), y - c.y()) >= guard_px)
+        if (sector_of(x, y, c, sectors) == g)
           mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x)] = 0.0f;
   }
   return sub;
@@ -157,10 +157,9 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int n,
 
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
                                                 const std::function<PoleEstimate(const stack::Stack&)>& method,
-                                                const Eigen::Vector2d& centre_px, int sectors, double guard_px) {
+                                                const Eigen::Vector2d& centre_px, int sectors) {
   return group_jackknife(
-      e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors, guard_px)); },
-      "sky sector");
+      e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); }, "sky sector");
 }
 
 double sigma_deg_of(const Eigen::Matrix2d& c) {

@@ -14,10 +14,9 @@
 // The sector jackknife. The frame jackknife cannot see an error every frame shares — a cloud that
 // stays over one part of the sky, the neutral points of a real sky, saturation near the sun — since
 // every frame group carries it alike. So the usable sky pixels are dealt into K = 6 azimuth
-// sectors about a centre pixel (the principal point; for invariance, which reads the sky around
-// its pole, the estimated pole, keeping a disc of 10° about it in every sub-run: without it the
-// pole would sit on the edge of every sub-run's usable image, where invariance declines) and the
-// method runs again with one sector masked in every frame;
+// sectors about the principal point and the method runs again with one sector masked in every
+// frame (sun_vector, sun_vector_ephemeris, sun_dolp: the methods that fit the whole sky per frame;
+// invariance reads the sky around its pole, and a masked wedge there trips its edge checks);
 // the same formula gives a second covariance. An error that lives in one part of the sky moves
 // the answer without that part; one spread evenly over the sky still does not show.
 //
@@ -67,9 +66,8 @@ stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8
 int sector_of(double x, double y, const Eigen::Vector2d& centre_px, int sectors);
 
 // The stack with the pixels of sector `g` of `sectors` (sector_of) masked ("mask" = 0) in every
-// frame, but those within `guard_px` of the centre: what a sector jackknife's sub-run sees.
-stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& centre_px, int g, int sectors,
-                             double guard_px = 0.0);
+// frame: what a sector jackknife's sub-run sees.
+stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& centre_px, int g, int sectors);
 
 // The delete-a-group jackknife's covariance (rad², tangent plane at `e`) from K sub-answers,
 // `sub(g)` being the answer without group g. Declines `e` and returns nullopt when a sub-run fails
@@ -86,12 +84,10 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int frames,
                                                const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
                                                int max_groups = 6);
 
-// The sector jackknife: `method` runs on sector_left_out(stack, centre_px, g, sectors, guard_px)
-// for each g.
+// The sector jackknife: `method` runs on sector_left_out(stack, centre_px, g, sectors) for each g.
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
                                                 const std::function<PoleEstimate(const stack::Stack&)>& method,
-                                                const Eigen::Vector2d& centre_px, int sectors = 6,
-                                                double guard_px = 0.0);
+                                                const Eigen::Vector2d& centre_px, int sectors = 6);
 
 // √λmax of a covariance (rad²), in degrees: one jackknife's σ on its own.
 double sigma_deg_of(const Eigen::Matrix2d& covariance_rad2);

@@ -63,6 +63,7 @@ TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, an
     INFO(m);
     const skypole::MethodCalibration c{.method = m, .max_unpolarized_share = 0.25};
     skypole::PoleEstimate ok = skypole::run_method(clear, m, ungated);
+    INFO(ok.why_invalid);
     REQUIRE(ok.valid);
     skypole::apply_calibration_gates(ok, c, clear, {});
     CHECK(ok.valid);
