@@ -137,6 +137,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   // One frame: its rays are used once, so they are traced per tile, never stored (unless a
   // previous stack left planes for this camera).
   ro.keep_rays = truths.size() > 1;
+  // The frames below are this function's own (and the next stack's): nothing but the renderer
+  // and the sensor stage, which resets the token, writes them.
+  ro.reuse_cleared = true;
   std::vector<std::string> written = channel_names(ro);
   const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
   if (keep_raw) written.emplace_back("raw");

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -144,6 +145,8 @@ std::vector<std::string> channel_names(const RenderOptions& o) {
 Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
                    std::shared_ptr<const Occluders> occluders, std::shared_ptr<const RayPlanes> planes)
     : camera_(std::move(camera)), options_(std::move(options)), occluders_(std::move(occluders)) {
+  static std::atomic<std::uint64_t> tokens{0};
+  token_ = ++tokens;
   const std::size_t n = static_cast<std::size_t>(camera_->width()) * static_cast<std::size_t>(camera_->height());
   if (occluders_ && occluders_->shaded()) surface_s0_.resize(n);
   if (options_.spp != 1) {
@@ -262,6 +265,9 @@ stack::Frame Renderer::new_frame() const {
 void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun,
                              stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
+  // Same size, so prepare() keeps every channel's storage, or makes it new (zeros).
+  const bool cleared = options_.reuse_cleared && frame.zero_outside == token_ && frame.width == w && frame.height == h;
+  frame.zero_outside = 0;  // until every tile is done
   const Outputs out = prepare(frame, options_, w, h, skies.size());
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t width = static_cast<std::size_t>(w);
@@ -279,14 +285,16 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
       const std::size_t row = static_cast<std::size_t>(y) * width;
       const RayRow span = planes_ ? planes_->row(y) : traced->row(y);
       const std::size_t x0 = static_cast<std::size_t>(span.x0), x1 = static_cast<std::size_t>(span.x1);
-      for (const BandOutputs& b : out.bands) {
-        for (float* p : {b.s0, b.s1, b.s2, b.s3, b.dolp, b.aolp}) {
-          fill_zero(p, row, x0);
-          fill_zero(p, row + x1, width - x1);
+      if (!cleared) {
+        for (const BandOutputs& b : out.bands) {
+          for (float* p : {b.s0, b.s1, b.s2, b.s3, b.dolp, b.aolp}) {
+            fill_zero(p, row, x0);
+            fill_zero(p, row + x1, width - x1);
+          }
         }
+        fill_zero(out.mask, row, x0);
+        fill_zero(out.mask, row + x1, width - x1);
       }
-      fill_zero(out.mask, row, x0);
-      fill_zero(out.mask, row + x1, width - x1);
       for (std::size_t x = x0; x < x1; x += kChunk) {
         const std::size_t n = std::min(kChunk, x1 - x), i = row + x, q = x - x0;
         const float *dx = span.dx + q, *dy = span.dy + q, *dz = span.dz + q;
@@ -315,6 +323,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
     }
     out.copy_rows(static_cast<std::size_t>(y0) * width, static_cast<std::size_t>(y1 - y0) * width);
   });
+  frame.zero_outside = token_;
 }
 
 // N samples per pixel: rays traced per tile and frame, Stokes averaged per pixel (samples that do
@@ -322,6 +331,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
 void Renderer::render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun,
                               stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
+  frame.zero_outside = 0;
   const Outputs out = prepare(frame, options_, w, h, skies.size());
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t spp = static_cast<std::size_t>(options_.spp);

@@ -34,6 +34,11 @@ struct RenderOptions {
   // stack without occluders: each render traces its tiles' rays into per-thread scratch instead,
   // and no full-frame ray memory is ever allocated or faulted in (the output is the same).
   bool keep_rays = true;
+  // spp = 1: a frame this renderer rendered last keeps its zeros outside the image circle, so
+  // rendering into it again skips them (stack::Frame::zero_outside; 22 MB of stores a frame for
+  // the paper's scene with DoLP and AoLP). Only for a caller whose frames nothing else writes in
+  // between, other than what resets the token (the sensor stage does): render/pipeline.cpp.
+  bool reuse_cleared = false;
 };
 
 // Channel names a frame will carry for these options ("S0.Y", …, "R", "G", "B", "mask").
@@ -91,6 +96,9 @@ class Renderer {
   // Shaded occluders only: per pixel, the mean S0 of the occluder surfaces its samples meet
   // (unpolarized, added to S0 of every frame before DoLP and AoLP). Empty otherwise.
   std::vector<float> surface_s0_;
+
+  // This renderer's stack::Frame::zero_outside token: unique in the process, never 0.
+  std::uint64_t token_;
 };
 
 }  // namespace skypol::render

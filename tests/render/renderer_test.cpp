@@ -213,6 +213,63 @@ TEST_CASE("rendering into a used frame gives the bytes of a new frame and keeps 
   }
 }
 
+TEST_CASE("with reuse_cleared, a frame the renderer left keeps its zeros outside the circle; another writer's frame is cleared",
+          "[renderer][reuse]") {
+  const auto cam = small_fisheye(25);
+  const sky::RayleighSky sky_model(sky::RayleighParams{0.9});
+  const sky::Sun sun_a = sun_at(70, 30), sun_b = sun_at(250, 5);
+  render::RenderOptions o;
+  o.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  o.reuse_cleared = true;
+  const render::Renderer r(cam, o);
+  const stack::Frame fresh = r.render(sky_model, sun_a);
+  const auto nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<float>& mask = fresh.channel("mask");
+  auto scribble_outside = [&](stack::Frame& f) {
+    for (auto& [name, data] : f.channels)
+      for (std::size_t i = 0; i < data.size(); ++i)
+        if (mask[i] == 0) data[i] = nan;
+  };
+  auto same_as_fresh = [&](const stack::Frame& f) {
+    for (const auto& [name, data] : fresh.channels) {
+      INFO(name);
+      CHECK(same_bytes(data, f.channel(name)));
+    }
+  };
+
+  stack::Frame used = r.new_frame();
+  for (auto& [name, data] : used.channels) std::fill(data.begin(), data.end(), nan);
+  r.render(sky_model, sun_b, used);
+  CHECK(used.zero_outside != 0);
+  r.render(sky_model, sun_a, used);  // the outside is not cleared again, and is still zeros
+  same_as_fresh(used);
+
+  // A writer that resets the token: cleared again.
+  scribble_outside(used);
+  used.zero_outside = 0;
+  r.render(sky_model, sun_a, used);
+  same_as_fresh(used);
+
+  // Another renderer's token, or one whose caller does not allow the reuse: cleared.
+  scribble_outside(used);
+  const render::Renderer other(cam, o);
+  other.render(sky_model, sun_a, used);
+  same_as_fresh(used);
+  scribble_outside(used);
+  render::RenderOptions careful = o;
+  careful.reuse_cleared = false;
+  const render::Renderer plain(cam, careful);
+  plain.render(sky_model, sun_b, used);
+  plain.render(sky_model, sun_a, used);
+  same_as_fresh(used);
+
+  // The token is trusted: pixels changed behind it stay changed (what reuse_cleared asks of a caller).
+  r.render(sky_model, sun_a, used);
+  scribble_outside(used);
+  r.render(sky_model, sun_a, used);
+  CHECK(std::isnan(used.channel("DoLP.Y")[0]));
+}
+
 TEST_CASE("a frame holds only the channels asked for, with the same values", "[renderer][pay-for-what-you-ask]") {
   const auto cam = small_fisheye(5);
   const sky::RayleighSky sky_model;
