@@ -66,6 +66,13 @@ class Renderer {
   stack::Frame render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun) const;
   void render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
 
+  // Rows [y0, y1) of that frame into `band`, a frame of width × (y1 − y0) pixels with the same
+  // channels (storage reused as by render(…, frame)), pixel for pixel the bytes of those rows of the
+  // whole frame: for writing a part band by band from memory that stays in cache
+  // (stack::write_stack_banded). spp = 1 only (std::logic_error otherwise).
+  void render_rows(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, int y0, int y1,
+                   stack::Frame& band) const;
+
   // A frame with every channel allocated (zeros), for render(sky, sun, frame): lets a caller pay
   // for the memory before timing or rendering starts.
   stack::Frame new_frame() const;
@@ -83,7 +90,8 @@ class Renderer {
                   std::span<float> surface_s0 = {}) const;
   // Shaded occluders at spp > 1: surface_s0_ as the mean over each pixel's samples.
   void shade_sampled();
-  void render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
+  void render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame, int first,
+                     int last) const;
   void render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
 
   std::shared_ptr<const camera::Camera> camera_;
@@ -97,7 +105,8 @@ class Renderer {
   // (unpolarized, added to S0 of every frame before DoLP and AoLP). Empty otherwise.
   std::vector<float> surface_s0_;
 
-  // This renderer's stack::Frame::zero_outside token: unique in the process, never 0.
+  // This renderer's stack::Frame::zero_outside token (shifted left 32 bits and or-ed with the
+  // first row rendered): unique in the process, never 0.
   std::uint64_t token_;
 };
 

@@ -4,6 +4,7 @@
 // the same bytes as into a new one, and a scene pays only for the channels it asks for.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -268,6 +269,49 @@ TEST_CASE("with reuse_cleared, a frame the renderer left keeps its zeros outside
   scribble_outside(used);
   r.render(sky_model, sun_a, used);
   CHECK(std::isnan(used.channel("DoLP.Y")[0]));
+}
+
+TEST_CASE("render_rows gives the rows of the whole frame, into bands reused for other rows", "[renderer][bands]") {
+  const auto cam = small_fisheye(25);
+  const sky::RayleighSky sky_model(sky::RayleighParams{0.9});
+  const sky::Sun suns[] = {sun_at(70, 30), sun_at(250, 5)};
+  const sky::SkyModel* one[] = {&sky_model};
+  for (bool keep_rays : {true, false}) {    // the planes' spans, or rays traced per tile
+    for (bool reuse : {true, false}) {      // bands cleared only where the old rows' spans were wider, or fully
+      for (int band_rows : {24, 80, 7}) {   // not a multiple of the 16-row tiles; the whole frame; odd
+        INFO("keep_rays " << keep_rays << ", reuse_cleared " << reuse << ", band_rows " << band_rows);
+        render::RenderOptions o;
+        o.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+        o.keep_rays = keep_rays;
+        o.reuse_cleared = reuse;
+        const render::Renderer r(cam, o);
+        std::array<stack::Frame, 2> bands;
+        int k = 0;
+        for (const sky::Sun& sun : suns) {
+          const stack::Frame whole = r.render(sky_model, sun);
+          for (int y0 = 0; y0 < cam->height(); y0 += band_rows, ++k) {
+            const int y1 = std::min(cam->height(), y0 + band_rows);
+            stack::Frame& band = bands[static_cast<std::size_t>(k % 2)];
+            r.render_rows(one, sun, y0, y1, band);
+            REQUIRE(band.width == cam->width());
+            REQUIRE(band.height == y1 - y0);
+            REQUIRE(band.channels.size() == whole.channels.size());
+            for (const auto& [name, data] : whole.channels) {
+              INFO(name << " rows " << y0 << "-" << y1);
+              const auto from = static_cast<std::ptrdiff_t>(y0) * cam->width(), to = static_cast<std::ptrdiff_t>(y1) * cam->width();
+              CHECK(same_bytes(std::vector<float>(data.begin() + from, data.begin() + to), band.channel(name)));
+            }
+          }
+        }
+      }
+    }
+  }
+  render::RenderOptions sampled;
+  sampled.spp = 4;
+  stack::Frame band;
+  CHECK_THROWS_AS(render::Renderer(cam, sampled).render_rows(one, suns[0], 0, 8, band), std::logic_error);
+  CHECK_THROWS_AS(render::Renderer(cam, {}).render_rows(one, suns[0], 8, 8, band), std::invalid_argument);
+  CHECK_THROWS_AS(render::Renderer(cam, {}).render_rows(one, suns[0], 0, cam->height() + 1, band), std::invalid_argument);
 }
 
 TEST_CASE("a frame holds only the channels asked for, with the same values", "[renderer][pay-for-what-you-ask]") {
