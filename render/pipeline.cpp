@@ -31,8 +31,9 @@ thread_local stack::Frame t_spare_frame;
 thread_local stack::Frame t_spare_second;  // an overlapped write's second frame (render_scene)
 // A banded write's two bands (render_scene), kept likewise.
 thread_local std::array<stack::Frame, 2> t_spare_bands;
-// Rows per band: a multiple of the renderer's 16-row tiles; 128 rows of DoLP and AoLP at 2448
-// pixels are 2.5 MB, so both bands stay in the cache between the render and OpenEXR's copy.
+// Rows per band: a multiple of the renderer's 16-row tiles. 256 rows of DoLP and AoLP at 2448
+// pixels are 5 MB a band; 128 rows cost more hand-overs between the threads for no less CPU, and
+// 512 or 1024 rows more memory to fault in (alternating runs of the 23-frame job, 2026-12-02).
 constexpr int kBandRows = 256;
 
 // A render in which no pixel sees the sky, or next to none (fewer than 1 in 10 000), is a
@@ -200,9 +201,10 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   if (banded) {
     // Uncompressed, nothing that needs whole frames: each part is rendered and written in bands
     // of rows, the next band rendering on the other core while OpenEXR copies this one. The
-    // pixel memory is two bands, faulted in once and kept in cache, instead of two frames (80 MB
-    // for DoLP and AoLP of the paper's camera), whose first touch cost a third of the job's CPU
-    // on this virtual machine (docs/benchmarks.md section 9).
+    // pixel memory is two bands, faulted in once, instead of two frames (80 MB for DoLP and AoLP
+    // of the paper's camera), whose first touch cost a sixth of the 23-frame job's CPU on this
+    // virtual machine; and writing starts after one band, not one frame (docs/benchmarks.md
+    // section 9).
     report.write_seconds = stack::write_stack_banded(
         out_path, truths, written, cam->width(), cam->height(), header, wo, kBandRows, t_spare_bands,
         [&](std::size_t i, int y0, int y1, stack::Frame& band) {
