@@ -44,23 +44,25 @@ inline void sin_cos(double x, double& s, double& c) {
 }
 
 // meridional_e0 (camera.h) of the camera direction (x, y, z), without branches so that it
-// vectorizes: d = (x, y, z)/|(x, y, z)|, e0 = (1 − dx²/(1+dz), −dx·dy/(1+dz), −dx) normalized, with
-// 1 + dz = (dx² + dy²)/(1 − dz) when dz < 0, +x for a zero or non-finite direction and −x straight
-// back.
+// vectorizes: d = (x, y, z)/|(x, y, z)|, e0 = (1 − dx·q, −dy·q, −dx) with q = dx/(1 + dz), or
+// q = dx·(1 − dz)/(dx² + dy²) when dz < 0 (1 + dz loses its digits near the backward axis); +x for
+// a zero or non-finite direction and −x straight back. e0 is unit for a unit d (|e0|² = 1 exactly
+// in real arithmetic), so it is not normalized again: one square root and two divisions a pixel.
 inline void meridional_e0(double x, double y, double z, double& ex, double& ey, double& ez) {
   const double n = std::sqrt((x * x + y * y) + z * z);
   const bool usable = n > 0 && n <= std::numeric_limits<double>::max();
   const double inv_n = 1 / n;  // reciprocals: a division costs several multiplications
   const double dx = x * inv_n, dy = y * inv_n, dz = z * inv_n;
   const double rho2 = dx * dx + dy * dy;
-  const double one_plus_dz = dz >= 0 ? 1 + dz : rho2 / (1 - dz);
-  const bool back = !(one_plus_dz > 1e-300);  // θ = π, φ = 0 limit
-  const double q = dx / one_plus_dz;
-  const double a = 1 - dx * q, b = -dy * q, c = -dx;
-  const double inv_m = 1 / std::sqrt((a * a + b * b) + c * c);  // 1 up to rounding; kept exactly so
-  ex = !usable ? 1.0 : back ? -1.0 : a * inv_m;
-  ey = !usable || back ? 0.0 : b * inv_m;
-  ez = !usable || back ? 0.0 : c * inv_m;
+  const bool front = dz >= 0;
+  const double den = front ? 1 + dz : rho2;
+  // θ = π, φ = 0 limit: den ≥ 1 in front, so only dz < 0 can be back (one comparison: combining
+  // bools keeps GCC from vectorizing).
+  const bool back = !(den > 1e-300 * (1 - dz));
+  const double q = (front ? dx : dx * (1 - dz)) / den;
+  ex = !usable ? 1.0 : back ? -1.0 : 1 - dx * q;
+  ey = !usable || back ? 0.0 : -dy * q;
+  ez = !usable || back ? 0.0 : -dx;
 }
 
 // A 3×3 rotation by rows, as scalars: the row loops keep them in registers (an array is
