@@ -160,7 +160,11 @@ Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions o
     planes_ = std::move(planes);
     return;
   }
-  if (!options_.keep_rays && !occluders_) return;  // traced per tile in each render (render_cached)
+  if (!options_.keep_rays && !occluders_) {  // traced per tile in each render (render_cached)
+    traced_spans_ = std::make_unique<std::atomic<std::int64_t>[]>(static_cast<std::size_t>(camera_->height()));
+    for (int y = 0; y < camera_->height(); ++y) traced_spans_[static_cast<std::size_t>(y)].store(-1, std::memory_order_relaxed);
+    return;
+  }
   planes_ = std::make_shared<const RayPlanes>(*camera_, options_.tile_rows, occluders_.get(),
                                               surface_s0_.empty() ? nullptr : &surface_s0_);
 }
@@ -274,7 +278,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
   int prev = -1;
   if (options_.reuse_cleared && frame.zero_outside >> 32 == token_ && frame.width == w && frame.height == h) {
     const int p = static_cast<int>(frame.zero_outside & 0xffffffffu);
-    if (p == first || planes_) prev = p;
+    if (p == first || planes_ || traced_spans_) prev = p;
   }
   frame.zero_outside = 0;  // until every tile is done
   const Outputs out = prepare(frame, options_, w, h, skies.size());
@@ -295,12 +299,28 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
       const std::size_t row = static_cast<std::size_t>(y - first) * width;  // in the frame
       const RayRow span = planes_ ? planes_->row(y) : traced->row(y);
       const std::size_t x0 = static_cast<std::size_t>(span.x0), x1 = static_cast<std::size_t>(span.x1);
+      if (traced_spans_)
+        traced_spans_[static_cast<std::size_t>(y)].store(std::int64_t{span.x0} | std::int64_t{span.x1} << 32,
+                                                         std::memory_order_relaxed);
       // Zeros go to [c0, c1) and [d0, d1): all outside the span, or, where the frame's previous
       // span [a, b) of this row is known (zeros outside it), [a, b) minus the new span.
       std::size_t c0 = 0, c1 = x0, d0 = x1, d1 = width;
-      if (prev >= 0) {
-        const RayRow old = prev == first ? span : planes_->row(prev + (y - first));
-        const std::size_t a = static_cast<std::size_t>(old.x0), b = static_cast<std::size_t>(old.x1);
+      // The old row's span: this row's, the planes', or as an earlier render traced it (-1 if
+      // none did: then all the outside is cleared).
+      std::int64_t old = -1;
+      if (prev == first) {
+        old = std::int64_t{span.x0} | std::int64_t{span.x1} << 32;
+      } else if (prev >= 0) {
+        const int y_old = prev + (y - first);
+        if (planes_) {
+          const RayRow r = planes_->row(y_old);
+          old = std::int64_t{r.x0} | std::int64_t{r.x1} << 32;
+        } else {
+          old = traced_spans_[static_cast<std::size_t>(y_old)].load(std::memory_order_relaxed);
+        }
+      }
+      if (old >= 0) {
+        const std::size_t a = static_cast<std::size_t>(old & 0xffffffff), b = static_cast<std::size_t>(old >> 32);
         c0 = a, c1 = std::max(a, std::min(b, x0));
         d0 = std::min(b, std::max(a, x1)), d1 = b;
       }

@@ -9,6 +9,7 @@
 // do not depend on the thread count.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -104,6 +105,12 @@ class Renderer {
   // Shaded occluders only: per pixel, the mean S0 of the occluder surfaces its samples meet
   // (unpolarized, added to S0 of every frame before DoLP and AoLP). Empty otherwise.
   std::vector<float> surface_s0_;
+
+  // Rays traced per tile (no planes_): each row's span as a render traced it, x0 | x1 << 32, or -1
+  // before any did, so that a band frame reused for other rows is cleared only where the old
+  // rows' spans were wider (render_rows). Relaxed atomics: every render traces the same spans,
+  // and a render reads only rows that an earlier one finished.
+  std::unique_ptr<std::atomic<std::int64_t>[]> traced_spans_;
 
   // This renderer's stack::Frame::zero_outside token (shifted left 32 bits and or-ed with the
   // first row rendered): unique in the process, never 0.
