@@ -1,6 +1,8 @@
 // Camera = lens + orientation + polarization transport (conventions in camera.h).
 #include "camera/camera.h"
 
+#include "camera/detail/ray_kernels.h"
+
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
@@ -11,19 +13,20 @@
 #include <utility>
 
 namespace skypol::camera {
+namespace {
+
+detail::Rotation rows(const Eigen::Matrix3d& m) {
+  return {m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)};
+}
+
+}  // namespace
 
 Eigen::Vector3d meridional_e0(const Eigen::Vector3d& d_cam) {
-  const double n = d_cam.norm();
-  if (!(n > 0) || !std::isfinite(n)) return Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d d = d_cam / n;
-  // e0 = cos φ·m − sin φ·s = R(ẑ→d)·x̂, R the shortest rotation taking the axis to d:
-  //   e0 = (1 − dx²/(1+dz), −dx·dy/(1+dz), −dx).
-  // 1 + dz loses its digits near the backward axis; there use 1 + dz = (dx² + dy²)/(1 − dz).
-  const double rho2 = d.x() * d.x() + d.y() * d.y();
-  const double one_plus_dz = d.z() >= 0 ? 1 + d.z() : rho2 / (1 - d.z());
-  if (!(one_plus_dz > 1e-300)) return Eigen::Vector3d(-1, 0, 0);  // θ = π, φ = 0 limit
-  const Eigen::Vector3d e0(1 - d.x() * d.x() / one_plus_dz, -d.x() * d.y() / one_plus_dz, -d.x());
-  return e0.normalized();  // unit already up to rounding; keep it exactly so
+  // e0 = cos φ·m − sin φ·s = R(ẑ→d)·x̂, R the shortest rotation taking the axis to d (the
+  // arithmetic, shared with ray_row's loops, is in detail/ray_kernels.h).
+  Eigen::Vector3d e0;
+  detail::meridional_e0(d_cam.x(), d_cam.y(), d_cam.z(), e0.x(), e0.y(), e0.z());
+  return e0;
 }
 
 Camera::Camera(std::shared_ptr<const Lens> lens, const Eigen::Matrix3d& world_from_camera,
@@ -39,34 +42,29 @@ Camera::Camera(std::shared_ptr<const Lens> lens, const Eigen::Matrix3d& world_fr
 std::optional<CameraRay> Camera::ray(const Eigen::Vector2d& pixel) const {
   const auto d_cam = lens_->ray(pixel);
   if (!d_cam) return std::nullopt;
-  return CameraRay{world_from_camera_ * *d_cam, world_from_camera_ * meridional_e0(*d_cam)};
+  // detail::rotate rather than Eigen's product: ray_row's loops round the same way (ray_kernels.h).
+  const detail::Rotation r = rows(world_from_camera_);
+  const Eigen::Vector3d e0 = meridional_e0(*d_cam);
+  CameraRay out;
+  detail::rotate(r, d_cam->x(), d_cam->y(), d_cam->z(), out.d.x(), out.d.y(), out.d.z());
+  detail::rotate(r, e0.x(), e0.y(), e0.z(), out.e0.x(), out.e0.y(), out.e0.z());
+  return out;
 }
 
 void Camera::ray_row(int y, int x0, std::size_t n, const RayRowOut& out) const {
-  // The lens's camera-frame directions in blocks that stay in L1, then the same expressions as
-  // ray() (rotation, meridional_e0) per pixel.
+  // The lens's camera-frame directions in blocks that stay in L1, then rotation and meridional_e0
+  // in one vector loop (detail::world_rays): ray()'s arithmetic, so ray()'s bits.
   constexpr std::size_t kBlock = 256;
   double cx[kBlock], cy[kBlock], cz[kBlock];
   unsigned char ok[kBlock];
-  const Eigen::Matrix3d& r = world_from_camera_;
+  const detail::Rotation r = rows(world_from_camera_);
   for (std::size_t b = 0; b < n; b += kBlock) {
     const std::size_t m = std::min(kBlock, n - b);
     lens_->ray_row(static_cast<double>(y), static_cast<double>(x0) + static_cast<double>(b), m, cx, cy, cz, ok);
-    for (std::size_t i = 0; i < m; ++i) {
-      const std::size_t k = b + i;
-      if (!ok[i]) {
-        out.dx[k] = 0, out.dy[k] = 0, out.dz[k] = 1;
-        out.ux[k] = 1, out.uy[k] = 0, out.uz[k] = 0;
-        out.valid[k] = 0;
-        continue;
-      }
-      const Eigen::Vector3d d_cam(cx[i], cy[i], cz[i]);
-      const Eigen::Vector3f d = (r * d_cam).cast<float>();
-      const Eigen::Vector3f e0 = (r * meridional_e0(d_cam)).cast<float>();
-      out.dx[k] = d.x(), out.dy[k] = d.y(), out.dz[k] = d.z();
-      out.ux[k] = e0.x(), out.uy[k] = e0.y(), out.uz[k] = e0.z();
-      out.valid[k] = 1;
-    }
+    std::size_t lo, hi;
+    detail::valid_span(m, [&](std::size_t i) { return ok[i] != 0; }, lo, hi);
+    detail::world_rays(r, m, lo, hi, cx, cy, cz, ok, out.dx + b, out.dy + b, out.dz + b, out.ux + b, out.uy + b, out.uz + b,
+                       out.valid + b);
   }
 }
 

@@ -29,6 +29,12 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // pays neither the allocation nor the page faults ("into a new frame" in `skypol bench`).
 thread_local stack::Frame t_spare_frame;
 thread_local stack::Frame t_spare_second;  // an overlapped write's second frame (render_scene)
+// A banded write's two bands (render_scene), kept likewise.
+thread_local std::array<stack::Frame, 2> t_spare_bands;
+// Rows per band: a multiple of the renderer's 16-row tiles. 256 rows of DoLP and AoLP at 2448
+// pixels are 5 MB a band; 128 rows cost more hand-overs between the threads for no less CPU, and
+// 512 or 1024 rows more memory to fault in (alternating runs of the 23-frame job, 2026-12-02).
+constexpr int kBandRows = 256;
 
 // A render in which no pixel sees the sky, or next to none (fewer than 1 in 10 000), is a
 // mistake in the scene (focal_mm in metres gives an image circle of a pixel or two; a camera facing
@@ -137,6 +143,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   // One frame: its rays are used once, so they are traced per tile, never stored (unless a
   // previous stack left planes for this camera).
   ro.keep_rays = truths.size() > 1;
+  // The frames below are this function's own (and the next stack's): nothing but the renderer
+  // and the sensor stage, which resets the token, writes them.
+  ro.reuse_cleared = true;
   std::vector<std::string> written = channel_names(ro);
   const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
   if (keep_raw) written.emplace_back("raw");
@@ -158,10 +167,6 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
                      t_planes.planes->tile_rows() == ro.tile_rows;
   const Renderer renderer(cam, ro, occluders, reuse ? t_planes.planes : nullptr);
   if (!key.empty() && renderer.ray_planes()) t_planes = {key, renderer.ray_planes()};
-  // Refilled for every part: pixel memory is allocated once per stack, or not at all when the
-  // previous stack left its frame (render() resizes the channels, reusing what fits).
-  stack::Frame frame = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
-  report.setup_seconds = since(t_setup);
 
   stack::StackHeader header;
   header.bands = scene.render.bands;
@@ -172,6 +177,13 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
   wo.zip_level = scene.output.zip_level;
+  const bool banded = stack::encodes_on_calling_thread(wo) && !scene.sensor && !previews && ro.spp == 1;
+  // Refilled for every part: pixel memory is allocated once per stack, or not at all when the
+  // previous stack left its frame (render() resizes the channels, reusing what fits). A banded
+  // write needs no frame.
+  stack::Frame frame;
+  if (!banded) frame = t_spare_frame.channels.empty() ? renderer.new_frame() : std::exchange(t_spare_frame, {});
+  report.setup_seconds = since(t_setup);
 
   double render_s = 0;
   const auto t_total = Clock::now();
@@ -186,7 +198,22 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
     // The writer reads only the channels the file keeps; the others (what a sensor or the
     // previews needed) stay in the frame, whose memory a later part reuses.
   };
-  if (truths.size() > 1 && stack::encodes_on_calling_thread(wo)) {
+  if (banded) {
+    // Uncompressed, nothing that needs whole frames: each part is rendered and written in bands
+    // of rows, the next band rendering on the other core while OpenEXR copies this one. The
+    // pixel memory is two bands, faulted in once, instead of two frames (80 MB for DoLP and AoLP
+    // of the paper's camera), whose first touch cost a sixth of the 23-frame job's CPU on this
+    // virtual machine; and writing starts after one band, not one frame (docs/benchmarks.md
+    // section 9).
+    report.write_seconds = stack::write_stack_banded(
+        out_path, truths, written, cam->width(), cam->height(), header, wo, kBandRows, t_spare_bands,
+        [&](std::size_t i, int y0, int y1, stack::Frame& band) {
+          if (progress && i > 0 && y0 == 0) progress(i, truths.size());
+          const auto t0 = Clock::now();
+          renderer.render_rows(band_skies, truths[i].sun, y0, y1, band);
+          render_s += since(t0);
+        });
+  } else if (truths.size() > 1 && stack::encodes_on_calling_thread(wo)) {
     // Uncompressed: OpenEXR copies on this thread alone, so part i + 1 renders on the other core
     // meanwhile, into a second frame (kept for the next stack too). 23 parts of the paper's
     // scene: 0.74 s wall in turn, 0.67 s overlapped (docs/benchmarks.md section 9). A compressed
@@ -207,7 +234,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
                                });
     report.write_seconds = since(t_total) - render_s;
   }
-  t_spare_frame = std::move(frame);
+  if (!banded) t_spare_frame = std::move(frame);
   if (previews) previews->commit();
   if (progress) progress(truths.size(), truths.size());
   report.render_seconds = render_s;

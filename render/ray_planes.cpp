@@ -75,6 +75,7 @@ RayPlanes::RayPlanes(const camera::Camera& camera, int tile_rows, const Occluder
   blocks_.resize(static_cast<std::size_t>(tiles));
   spans_.resize(static_cast<std::size_t>(h));
   memory_ = untouched_floats(7 * w * static_cast<std::size_t>(h));
+  ones_.assign(w, 1.0f);
   std::atomic<std::size_t> used{0};
   // Full-width rays of one tile, then its spans copied into the tile's block.
   tbb::enumerable_thread_specific<TileRays> scratch;
@@ -88,15 +89,25 @@ RayPlanes::RayPlanes(const camera::Camera& camera, int tile_rows, const Occluder
       spans_[static_cast<std::size_t>(y)] = {r.x0, r.x1, stored};
       stored += static_cast<std::size_t>(r.x1 - r.x0);
     }
+    // A tile whose spans see the sky at every pixel (no occluders, a convex image circle: the
+    // usual case) stores no weight plane; its rows point at ones_ instead (a seventh less memory
+    // to fault in).
+    bool all_ones = true;
+    for (int y = y0; y < y1 && all_ones; ++y) {
+      const Row r = tile.row(y);
+      all_ones = std::all_of(r.weight, r.weight + (r.x1 - r.x0), [](float v) { return v == 1.0f; });
+    }
     Block& b = blocks_[static_cast<std::size_t>(t)];
     b.count = stored;
-    b.data = memory_.get() + used.fetch_add(7 * stored);
+    b.ones = all_ones;
+    const std::size_t planes = all_ones ? 6 : 7;
+    b.data = memory_.get() + used.fetch_add(planes * stored);
     for (int y = y0; y < y1; ++y) {
       const Row r = tile.row(y);
       const Span& s = spans_[static_cast<std::size_t>(y)];
       const std::size_t len = static_cast<std::size_t>(s.x1 - s.x0);
       const float* from[7] = {r.dx, r.dy, r.dz, r.ux, r.uy, r.uz, r.weight};
-      for (std::size_t c = 0; c < 7; ++c) std::copy_n(from[c], len, b.data + c * stored + s.offset);
+      for (std::size_t c = 0; c < planes; ++c) std::copy_n(from[c], len, b.data + c * stored + s.offset);
     }
   });
 }
@@ -106,7 +117,8 @@ RayPlanes::Row RayPlanes::row(int y) const {
   const Block& b = blocks_[static_cast<std::size_t>(y / tile_rows_)];
   const float* base = b.data + s.offset;
   const std::size_t n = b.count;
-  return {s.x0, s.x1, base, base + n, base + 2 * n, base + 3 * n, base + 4 * n, base + 5 * n, base + 6 * n};
+  return {s.x0, s.x1, base, base + n, base + 2 * n, base + 3 * n, base + 4 * n, base + 5 * n,
+          b.ones ? ones_.data() : base + 6 * n};
 }
 
 std::size_t RayPlanes::stored_pixels() const {

@@ -60,7 +60,9 @@ class RayPlanes {
   struct Block {
     float* data = nullptr;  // 7 planes of `count` floats: dx dy dz ux uy uz weight, in memory_
     std::size_t count = 0;
+    bool ones = false;      // every weight is 1: the weight plane is not stored (rows point at ones_)
   };
+  std::vector<float> ones_;  // width ones
   // One reservation of full-frame size, advised for huge pages; tiles take their blocks from its
   // start as they finish, so only the stored spans are ever touched.
   std::unique_ptr<float[]> memory_;

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -144,6 +145,8 @@ std::vector<std::string> channel_names(const RenderOptions& o) {
 Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions options,
                    std::shared_ptr<const Occluders> occluders, std::shared_ptr<const RayPlanes> planes)
     : camera_(std::move(camera)), options_(std::move(options)), occluders_(std::move(occluders)) {
+  static std::atomic<std::uint64_t> tokens{0};
+  token_ = ++tokens;
   const std::size_t n = static_cast<std::size_t>(camera_->width()) * static_cast<std::size_t>(camera_->height());
   if (occluders_ && occluders_->shaded()) surface_s0_.resize(n);
   if (options_.spp != 1) {
@@ -157,7 +160,11 @@ Renderer::Renderer(std::shared_ptr<const camera::Camera> camera, RenderOptions o
     planes_ = std::move(planes);
     return;
   }
-  if (!options_.keep_rays && !occluders_) return;  // traced per tile in each render (render_cached)
+  if (!options_.keep_rays && !occluders_) {  // traced per tile in each render (render_cached)
+    traced_spans_ = std::make_unique<std::atomic<std::int64_t>[]>(static_cast<std::size_t>(camera_->height()));
+    for (int y = 0; y < camera_->height(); ++y) traced_spans_[static_cast<std::size_t>(y)].store(-1, std::memory_order_relaxed);
+    return;
+  }
   planes_ = std::make_shared<const RayPlanes>(*camera_, options_.tile_rows, occluders_.get(),
                                               surface_s0_.empty() ? nullptr : &surface_s0_);
 }
@@ -244,7 +251,7 @@ void Renderer::render(std::span<const sky::SkyModel* const> skies, const sky::Su
                                 std::to_string(options_.bands.size()) + " bands (give one, or one per band)");
   }
   if (options_.spp == 1) {
-    render_cached(skies, sun, frame);
+    render_cached(skies, sun, frame, 0, camera_->height());
   } else {
     render_sampled(skies, sun, frame);
   }
@@ -258,35 +265,73 @@ stack::Frame Renderer::new_frame() const {
 
 // One sample per pixel from the cached planes: per row, the model over the span of sky-seeing
 // pixels in chunks, written straight into the frame's channels (scratch for the Stokes components
-// the scene does not keep); zeros outside the span.
-void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun,
-                             stack::Frame& frame) const {
-  const int w = camera_->width(), h = camera_->height();
+// the scene does not keep); zeros outside the span. Rows [first, last) of the camera, into a frame
+// of last − first rows (the whole frame, or a band: render_rows).
+void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame,
+                             int first, int last) const {
+  const int w = camera_->width(), h = last - first;
+  // The token names the rows too. A frame this renderer left holds zeros outside the spans of
+  // rows [prev, prev + h): with the planes, those spans are known for any rows, and only what
+  // was inside them and is outside now needs clearing (a band frame reused for other rows);
+  // traced per tile, only for the same rows. Same size, so prepare() keeps every channel's storage.
+  const std::uint64_t key = token_ << 32 | static_cast<std::uint32_t>(first);
+  int prev = -1;
+  if (options_.reuse_cleared && frame.zero_outside >> 32 == token_ && frame.width == w && frame.height == h) {
+    const int p = static_cast<int>(frame.zero_outside & 0xffffffffu);
+    if (p == first || planes_ || traced_spans_) prev = p;
+  }
+  frame.zero_outside = 0;  // until every tile is done
   const Outputs out = prepare(frame, options_, w, h, skies.size());
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t width = static_cast<std::size_t>(w);
+  const std::size_t camera_offset = static_cast<std::size_t>(first) * width;  // frame index + it = camera pixel
   const int tile = options_.tile_rows;
   tbb::enumerable_thread_specific<TileRays> tile_rays;  // used only without planes_
   tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
     alignas(64) float scratch[4][kChunk];
-    const int y0 = t * tile, y1 = std::min(h, y0 + tile);
+    const int y0 = first + t * tile, y1 = std::min(last, y0 + tile);
     TileRays* traced = nullptr;
     if (!planes_) {
       traced = &tile_rays.local();
       traced->trace(*camera_, y0, y1, nullptr);
     }
     for (int y = y0; y < y1; ++y) {
-      const std::size_t row = static_cast<std::size_t>(y) * width;
+      const std::size_t row = static_cast<std::size_t>(y - first) * width;  // in the frame
       const RayRow span = planes_ ? planes_->row(y) : traced->row(y);
       const std::size_t x0 = static_cast<std::size_t>(span.x0), x1 = static_cast<std::size_t>(span.x1);
-      for (const BandOutputs& b : out.bands) {
-        for (float* p : {b.s0, b.s1, b.s2, b.s3, b.dolp, b.aolp}) {
-          fill_zero(p, row, x0);
-          fill_zero(p, row + x1, width - x1);
+      if (traced_spans_)
+        traced_spans_[static_cast<std::size_t>(y)].store(std::int64_t{span.x0} | std::int64_t{span.x1} << 32,
+                                                         std::memory_order_relaxed);
+      // Zeros go to [c0, c1) and [d0, d1): all outside the span, or, where the frame's previous
+      // span [a, b) of this row is known (zeros outside it), [a, b) minus the new span.
+      std::size_t c0 = 0, c1 = x0, d0 = x1, d1 = width;
+      // The old row's span: this row's, the planes', or as an earlier render traced it (-1 if
+      // none did: then all the outside is cleared).
+      std::int64_t old = -1;
+      if (prev == first) {
+        old = std::int64_t{span.x0} | std::int64_t{span.x1} << 32;
+      } else if (prev >= 0) {
+        const int y_old = prev + (y - first);
+        if (planes_) {
+          const RayRow r = planes_->row(y_old);
+          old = std::int64_t{r.x0} | std::int64_t{r.x1} << 32;
+        } else {
+          old = traced_spans_[static_cast<std::size_t>(y_old)].load(std::memory_order_relaxed);
         }
       }
-      fill_zero(out.mask, row, x0);
-      fill_zero(out.mask, row + x1, width - x1);
+      if (old >= 0) {
+        const std::size_t a = static_cast<std::size_t>(old & 0xffffffff), b = static_cast<std::size_t>(old >> 32);
+        c0 = a, c1 = std::max(a, std::min(b, x0));
+        d0 = std::min(b, std::max(a, x1)), d1 = b;
+      }
+      for (const BandOutputs& b : out.bands) {
+        for (float* p : {b.s0, b.s1, b.s2, b.s3, b.dolp, b.aolp}) {
+          fill_zero(p, row + c0, c1 - c0);
+          fill_zero(p, row + d0, d1 - d0);
+        }
+      }
+      fill_zero(out.mask, row + c0, c1 - c0);
+      fill_zero(out.mask, row + d0, d1 - d0);
       for (std::size_t x = x0; x < x1; x += kChunk) {
         const std::size_t n = std::min(kChunk, x1 - x), i = row + x, q = x - x0;
         const float *dx = span.dx + q, *dy = span.dy + q, *dz = span.dz + q;
@@ -307,14 +352,27 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
             }
           }
           clear_unseen(n, weight, s);
-          if (!surface_s0_.empty()) add_surface(n, surface_s0_.data() + i, s.s0);
+          if (!surface_s0_.empty()) add_surface(n, surface_s0_.data() + camera_offset + i, s.s0);
           derive(n, s.s0, s.s1, s.s2, b.dolp ? b.dolp + i : nullptr, b.aolp ? b.aolp + i : nullptr);
         }
         if (out.mask) std::memcpy(out.mask + i, weight, n * sizeof(float));
       }
     }
-    out.copy_rows(static_cast<std::size_t>(y0) * width, static_cast<std::size_t>(y1 - y0) * width);
+    out.copy_rows(static_cast<std::size_t>(y0 - first) * width, static_cast<std::size_t>(y1 - y0) * width);
   });
+  frame.zero_outside = key;
+}
+
+void Renderer::render_rows(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, int y0, int y1,
+                           stack::Frame& band) const {
+  if (options_.spp != 1) throw std::logic_error("renderer: rows are rendered at 1 sample per pixel only");
+  if (skies.size() != 1 && skies.size() != options_.bands.size())
+    throw std::invalid_argument("renderer: " + std::to_string(skies.size()) + " sky models for " +
+                                std::to_string(options_.bands.size()) + " bands (give one, or one per band)");
+  if (!(0 <= y0 && y0 < y1 && y1 <= camera_->height()))
+    throw std::invalid_argument("renderer: rows [" + std::to_string(y0) + ", " + std::to_string(y1) +
+                                ") outside the camera's " + std::to_string(camera_->height()));
+  render_cached(skies, sun, band, y0, y1);
 }
 
 // N samples per pixel: rays traced per tile and frame, Stokes averaged per pixel (samples that do
@@ -322,6 +380,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
 void Renderer::render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun,
                               stack::Frame& frame) const {
   const int w = camera_->width(), h = camera_->height();
+  frame.zero_outside = 0;
   const Outputs out = prepare(frame, options_, w, h, skies.size());
   const bool projected = camera_->transport() == camera::Transport::projected;
   const std::size_t spp = static_cast<std::size_t>(options_.spp);

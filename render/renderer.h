@@ -9,6 +9,7 @@
 // do not depend on the thread count.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -34,6 +35,11 @@ struct RenderOptions {
   // stack without occluders: each render traces its tiles' rays into per-thread scratch instead,
   // and no full-frame ray memory is ever allocated or faulted in (the output is the same).
   bool keep_rays = true;
+  // spp = 1: a frame this renderer rendered last keeps its zeros outside the image circle, so
+  // rendering into it again skips them (stack::Frame::zero_outside; 22 MB of stores a frame for
+  // the paper's scene with DoLP and AoLP). Only for a caller whose frames nothing else writes in
+  // between, other than what resets the token (the sensor stage does): render/pipeline.cpp.
+  bool reuse_cleared = false;
 };
 
 // Channel names a frame will carry for these options ("S0.Y", …, "R", "G", "B", "mask").
@@ -61,6 +67,13 @@ class Renderer {
   stack::Frame render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun) const;
   void render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
 
+  // Rows [y0, y1) of that frame into `band`, a frame of width × (y1 − y0) pixels with the same
+  // channels (storage reused as by render(…, frame)), pixel for pixel the bytes of those rows of the
+  // whole frame: for writing a part band by band from memory that stays in cache
+  // (stack::write_stack_banded). spp = 1 only (std::logic_error otherwise).
+  void render_rows(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, int y0, int y1,
+                   stack::Frame& band) const;
+
   // A frame with every channel allocated (zeros), for render(sky, sun, frame): lets a caller pay
   // for the memory before timing or rendering starts.
   stack::Frame new_frame() const;
@@ -78,7 +91,8 @@ class Renderer {
                   std::span<float> surface_s0 = {}) const;
   // Shaded occluders at spp > 1: surface_s0_ as the mean over each pixel's samples.
   void shade_sampled();
-  void render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
+  void render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame, int first,
+                     int last) const;
   void render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
 
   std::shared_ptr<const camera::Camera> camera_;
@@ -91,6 +105,16 @@ class Renderer {
   // Shaded occluders only: per pixel, the mean S0 of the occluder surfaces its samples meet
   // (unpolarized, added to S0 of every frame before DoLP and AoLP). Empty otherwise.
   std::vector<float> surface_s0_;
+
+  // Rays traced per tile (no planes_): each row's span as a render traced it, x0 | x1 << 32, or -1
+  // before any did, so that a band frame reused for other rows is cleared only where the old
+  // rows' spans were wider (render_rows). Relaxed atomics: every render traces the same spans,
+  // and a render reads only rows that an earlier one finished.
+  std::unique_ptr<std::atomic<std::int64_t>[]> traced_spans_;
+
+  // This renderer's stack::Frame::zero_outside token (shifted left 32 bits and or-ed with the
+  // first row rendered): unique in the process, never 0.
+  std::uint64_t token_;
 };
 
 }  // namespace skypol::render

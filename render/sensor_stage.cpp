@@ -71,6 +71,7 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
   if (frame.width != d.width || frame.height != d.height) {
     throw std::invalid_argument("sensor: the frame's size differs from the sensor's");
   }
+  frame.zero_outside = 0;  // noise and the eroded mask change pixels outside the circle too
   // The bilinear demosaic reads each pixel's 3×3 neighbourhood: a pixel next to one that sees no
   // sky mixes in darkness, so it is masked too (the mask is eroded by one pixel).
   std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;

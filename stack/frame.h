@@ -2,6 +2,7 @@
 // the ground truth the renderer knows, and a stack of them sharing one camera.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -24,6 +25,11 @@ struct Frame {
   int height = 0;
   scene::Truth truth;  // scene/truth.h
   std::map<std::string, std::vector<float>> channels;
+  // Which renderer left every channel zero outside its spans of the image circle (a token of
+  // render::Renderer, 0 for none), so that its next render into this frame, when the caller lets
+  // it (RenderOptions::reuse_cleared), need not clear those pixels again. Whatever else writes
+  // the channels resets it to 0.
+  std::uint64_t zero_outside = 0;
 
   bool has(const std::string& name) const { return channels.count(name) != 0; }
   // Throws std::out_of_range naming the channel and the ones that exist.

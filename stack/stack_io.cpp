@@ -4,8 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <future>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <sstream>
 #include <thread>
@@ -230,29 +235,45 @@ void write_stack(const std::string& path, const std::vector<scene::Truth>& truth
 
 namespace {
 
-// Part i's pixels from `frame` into the open file; half conversions reuse half_buffers.
-void write_part(Imf::MultiPartOutputFile& file, std::size_t i, const Frame& frame, const std::vector<std::string>& channels,
-                int width, int height, const WriteOptions& options, std::vector<std::vector<Imath::half>>& half_buffers) {
-  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+// Slices for rows [y0, y0 + frame.height) of a part from `frame` (the whole part when y0 = 0, or a
+// band of it); half conversions go into half_buffers, reused. OpenEXR addresses a slice's pixel
+// (x, y) at base + y·yStride, so a band's base is set y0 rows before its first row (OpenEXR's
+// documented way to hand it a window; it reads only the rows written).
+Imf::FrameBuffer slices(const Frame& frame, int y0, const std::vector<std::string>& channels, int width,
+                        const WriteOptions& options, std::vector<std::vector<Imath::half>>& half_buffers) {
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(frame.height);
   Imf::FrameBuffer fb;
   for (std::size_t k = 0; k < channels.size(); ++k) {
     const std::string& c = channels[k];
     const std::vector<float>& data = frame.channel(c);
-    if (data.size() != n) throw std::logic_error("channel " + c + " has the wrong size");
+    if (data.size() != n || frame.width != width) throw std::logic_error("channel " + c + " has the wrong size");
+    const char* base = nullptr;
+    Imf::PixelType type = Imf::FLOAT;
+    std::size_t size = sizeof(float);
     if (options.half && !stays_float(c)) {
       std::vector<Imath::half>& hb = half_buffers[k];
       hb.resize(data.size());
       for (std::size_t j = 0; j < data.size(); ++j) hb[j] = Imath::half(std::clamp(data[j], -kHalfMax, kHalfMax));
-      fb.insert(c, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(half_buffers[k].data()), sizeof(Imath::half),
-                              sizeof(Imath::half) * static_cast<std::size_t>(width)));
+      base = reinterpret_cast<const char*>(hb.data());
+      type = Imf::HALF;
+      size = sizeof(Imath::half);
     } else {
-      // An output slice is only read; Imf::Slice takes a non-const pointer for both directions.
-      fb.insert(c, Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(data.data())),
-                              sizeof(float), sizeof(float) * static_cast<std::size_t>(width)));
+      base = reinterpret_cast<const char*>(data.data());
     }
+    const std::size_t stride = size * static_cast<std::size_t>(width);
+    const auto origin = reinterpret_cast<std::uintptr_t>(base) - static_cast<std::uintptr_t>(y0) * stride;
+    // An output slice is only read; Imf::Slice takes a non-const pointer for both directions.
+    fb.insert(c, Imf::Slice(type, reinterpret_cast<char*>(origin), size, stride));
   }
+  return fb;
+}
+
+// Part i's pixels from `frame` into the open file.
+void write_part(Imf::MultiPartOutputFile& file, std::size_t i, const Frame& frame, const std::vector<std::string>& channels,
+                int width, int height, const WriteOptions& options, std::vector<std::vector<Imath::half>>& half_buffers) {
+  if (frame.height != height) throw std::logic_error("frame has the wrong height");
   Imf::OutputPart part(file, static_cast<int>(i));
-  part.setFrameBuffer(fb);
+  part.setFrameBuffer(slices(frame, 0, channels, width, options, half_buffers));
   part.writePixels(height);
 }
 
@@ -361,6 +382,92 @@ double write_stack_overlapped(const std::string& path, const std::vector<scene::
       }
       if (next.valid()) next.get();
     }
+  });
+  return writing_s;
+}
+
+double write_stack_banded(const std::string& path, const std::vector<scene::Truth>& truths,
+                          const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                          const WriteOptions& options, int band_rows, std::array<Frame, 2>& bands,
+                          const std::function<void(std::size_t, int, int, Frame&)>& fill) {
+  if (band_rows < 1) throw std::invalid_argument("write_stack_banded: band_rows must be >= 1");
+  double writing_s = 0;
+  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file) {
+    std::vector<std::vector<Imath::half>> half_buffers(channels.size());
+    const std::size_t per_part = static_cast<std::size_t>((height + band_rows - 1) / band_rows);
+    const std::size_t jobs = truths.size() * per_part;
+    if (jobs == 0) return;
+    auto rows_of = [&](std::size_t j) {
+      const int y0 = static_cast<int>(j % per_part) * band_rows;
+      return std::pair{y0, std::min(height, y0 + band_rows)};
+    };
+    auto run = [&](std::size_t j) {
+      const auto [y0, y1] = rows_of(j);
+      fill(j / per_part, y0, y1, bands[j % 2]);
+    };
+    // One thread fills band j + 1 while this one writes band j; they hand over through the
+    // mutex (a thread per band would cost more than the handover).
+    std::mutex m;
+    std::condition_variable cv;
+    std::size_t asked = 0, done = 0;  // bands asked of the filler, and filled
+    bool quit = false;
+    std::exception_ptr failed;
+    std::thread filler([&] {
+      for (std::size_t j = 1; j < jobs; ++j) {
+        {
+          std::unique_lock lock(m);
+          cv.wait(lock, [&] { return asked >= j || quit; });
+          if (quit) return;
+        }
+        try {
+          run(j);
+        } catch (...) {
+          std::lock_guard lock(m);
+          failed = std::current_exception();
+          quit = true;
+          cv.notify_all();
+          return;
+        }
+        std::lock_guard lock(m);
+        done = j;
+        cv.notify_all();
+      }
+    });
+    auto stop = [&] {
+      {
+        std::lock_guard lock(m);
+        quit = true;
+      }
+      cv.notify_all();
+      filler.join();
+    };
+    try {
+      run(0);
+      std::unique_ptr<Imf::OutputPart> part;
+      for (std::size_t j = 0; j < jobs; ++j) {
+        if (j > 0) {  // band j is filled (band j − 1 was written: its buffer is free for band j + 1)
+          std::unique_lock lock(m);
+          cv.wait(lock, [&] { return done >= j || failed; });
+          if (failed) std::rethrow_exception(failed);
+        }
+        if (j + 1 < jobs) {
+          std::lock_guard lock(m);
+          asked = j + 1;
+          cv.notify_all();
+        }
+        // Band j + 1 fills the other buffer meanwhile; band j is written from this one.
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto [y0, y1] = rows_of(j);
+        if (y0 == 0) part = std::make_unique<Imf::OutputPart>(file, static_cast<int>(j / per_part));
+        part->setFrameBuffer(slices(bands[j % 2], y0, channels, width, options, half_buffers));
+        part->writePixels(y1 - y0);
+        writing_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    } catch (...) {
+      stop();
+      throw;
+    }
+    stop();
   });
   return writing_s;
 }

@@ -60,6 +60,18 @@ double write_stack_overlapped(const std::string& path, const std::vector<scene::
                             const WriteOptions& options, std::array<Frame, 2>& frames,
                             const std::function<void(std::size_t, Frame&)>& fill);
 
+// The same, part by part and each part in bands of band_rows rows (the last band of a part may be
+// shorter): fill(i, y0, y1, band) writes rows [y0, y1) of part i into `band` (a frame of
+// width × (y1 − y0) pixels; render::Renderer::render_rows), one of `bands` taken in turn. The next
+// band is filled on a second thread while this one is encoded and written, as
+// write_stack_overlapped does for whole parts, but the memory is two bands, not two frames: it is
+// faulted in once and stays in cache for OpenEXR's copy. Same file, byte for byte. fill is called
+// in order, never twice at once. Returns the seconds spent encoding and writing.
+double write_stack_banded(const std::string& path, const std::vector<scene::Truth>& truths,
+                          const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
+                          const WriteOptions& options, int band_rows, std::array<Frame, 2>& bands,
+                          const std::function<void(std::size_t, int, int, Frame&)>& fill);
+
 // Whether a stack with these options is encoded on the calling thread alone (uncompressed: its
 // encoding is a copy, and OpenEXR's pool is left out, stack_io.cpp). The other core is then free
 // to render the next part meanwhile (write_stack_overlapped); a compressed stack's encoding

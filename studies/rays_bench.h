@@ -1,5 +1,5 @@
 // Camera-ray throughput per lens model (`skypol bench --rays`): every pixel of a full sensor
-// through Lens::ray_row, against the per-pixel ray() that the base ray_row calls, with the round
+// through Lens::ray_row (and Camera::ray_row, what the renderer calls), against the per-pixel ray() that the base ray_row calls, with the round
 // trip project(ray_row(p)) − p and ray_row's distance from ray(). Figures only, never asserted.
 #pragma once
 
@@ -18,6 +18,7 @@ struct RaysBenchRow {
   std::size_t inside = 0;         // pixels with a ray
   double base_mrays_per_s = 0;    // Lens::ray_row of the base class (ray() per pixel), best of n
   double row_mrays_per_s = 0;     // the model's ray_row, best of n
+  double camera_mrays_per_s = 0;  // Camera::ray_row (the renderer's: rotation, polarizer, floats), best of n
   double max_round_trip_px = 0;   // max |project(ray_row(p)) − p| over the pixels inside
   double max_vs_ray_rad = 0;      // max angle between ray_row(p) and ray(p)
   std::size_t valid_mismatches = 0;  // pixels where ray_row and ray() disagree on having a ray

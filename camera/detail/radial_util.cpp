@@ -16,8 +16,11 @@ std::optional<Polar> polar_of(const Eigen::Vector3d& d) {
 
 Eigen::Vector3d direction(double theta, double mx, double my, double r) {
   if (!(r > 0)) return {0, 0, 1};
-  const double st = std::sin(theta);
-  return {st * mx / r, st * my / r, std::cos(theta)};
+  // ray_row's arithmetic (ray_kernels.h: its sin and cos, one division), so they agree bit for bit.
+  double st, ct;
+  sin_cos(theta, st, ct);
+  const double k = st / r;
+  return {k * mx, k * my, ct};
 }
 
 void check_intrinsics(const Intrinsics& k) {

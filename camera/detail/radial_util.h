@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "camera/detail/ray_kernels.h"
 #include "camera/lens.h"
 
 namespace skypol::camera::detail {
@@ -56,36 +57,30 @@ inline std::optional<Normalized> normalized_within(const Intrinsics& k, const Ei
   if (!pixel.allFinite()) return std::nullopt;
   const double mx = (pixel.x() - k.cx) / k.fx;
   const double my = (pixel.y() - k.cy) / k.fy;
-  const double r = std::hypot(mx, my);
+  const double r = std::sqrt(mx * mx + my * my);  // not hypot: the row loops' arithmetic (ray_kernels.h)
   if (r > r_max * (1 + kEdgeTol)) return std::nullopt;
   return Normalized{mx, my, r};
 }
 
 // Lens::ray_row for a radial model whose ray(p) is direction(theta_of(r), m) inside the image
-// circle of normalized radius r_max (normalized_within): the same arithmetic in the same order, so
-// the same bits, without the per-pixel optional and virtual call. theta_of is inlined.
+// circle of normalized radius r_max (normalized_within): the same arithmetic, so the same bits, in
+// blocks of vector loops (detail/ray_kernels.h); theta_of is inlined, and called only inside.
 template <class T>
 void radial_ray_row(const Intrinsics& k, double r_max, T theta_of, double y, double x0, std::size_t n,
                     double* dx, double* dy, double* dz, unsigned char* valid) {
   const double my = (y - k.cy) / k.fy;
   const double limit = r_max * (1 + kEdgeTol);
   const bool finite = std::isfinite(y) && std::isfinite(x0) && std::isfinite(x0 + static_cast<double>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const double mx = (x0 + static_cast<double>(i) - k.cx) / k.fx;
-    const double r = std::hypot(mx, my);
-    if (!finite || r > limit) {
-      valid[i] = 0;
-      dx[i] = 0, dy[i] = 0, dz[i] = 1;
-      continue;
-    }
-    valid[i] = 1;
-    if (!(r > 0)) {  // direction()'s axis case
-      dx[i] = 0, dy[i] = 0, dz[i] = 1;
-      continue;
-    }
-    const double theta = theta_of(r);
-    const double st = std::sin(theta);
-    dx[i] = st * mx / r, dy[i] = st * my / r, dz[i] = std::cos(theta);
+  constexpr std::size_t kBlock = 256;
+  double mx[kBlock], r[kBlock], theta[kBlock];
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t m = std::min(kBlock, n - b);
+    row_radii(x0, b, k.cx, k.fx, my, m, mx, r);
+    // The pixels inside the circle are one span of the row (r is convex along it).
+    std::size_t lo = m, hi = m;
+    if (finite) valid_span(m, [&](std::size_t i) { return r[i] <= limit; }, lo, hi);
+    for (std::size_t i = lo; i < hi; ++i) theta[i] = r[i] <= limit && r[i] > 0 ? theta_of(r[i]) : 0.0;
+    radial_directions(m, lo, hi, my, limit, mx, r, theta, dx + b, dy + b, dz + b, valid + b);
   }
 }
 

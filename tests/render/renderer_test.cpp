@@ -4,6 +4,7 @@
 // the same bytes as into a new one, and a scene pays only for the channels it asks for.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -211,6 +212,106 @@ TEST_CASE("rendering into a used frame gives the bytes of a new frame and keeps 
       CHECK(used.channel(name).data() == storage.at(name));  // no allocation on the second frame
     }
   }
+}
+
+TEST_CASE("with reuse_cleared, a frame the renderer left keeps its zeros outside the circle; another writer's frame is cleared",
+          "[renderer][reuse]") {
+  const auto cam = small_fisheye(25);
+  const sky::RayleighSky sky_model(sky::RayleighParams{0.9});
+  const sky::Sun sun_a = sun_at(70, 30), sun_b = sun_at(250, 5);
+  render::RenderOptions o;
+  o.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+  o.reuse_cleared = true;
+  const render::Renderer r(cam, o);
+  const stack::Frame fresh = r.render(sky_model, sun_a);
+  const auto nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<float>& mask = fresh.channel("mask");
+  auto scribble_outside = [&](stack::Frame& f) {
+    for (auto& [name, data] : f.channels)
+      for (std::size_t i = 0; i < data.size(); ++i)
+        if (mask[i] == 0) data[i] = nan;
+  };
+  auto same_as_fresh = [&](const stack::Frame& f) {
+    for (const auto& [name, data] : fresh.channels) {
+      INFO(name);
+      CHECK(same_bytes(data, f.channel(name)));
+    }
+  };
+
+  stack::Frame used = r.new_frame();
+  for (auto& [name, data] : used.channels) std::fill(data.begin(), data.end(), nan);
+  r.render(sky_model, sun_b, used);
+  CHECK(used.zero_outside != 0);
+  r.render(sky_model, sun_a, used);  // the outside is not cleared again, and is still zeros
+  same_as_fresh(used);
+
+  // A writer that resets the token: cleared again.
+  scribble_outside(used);
+  used.zero_outside = 0;
+  r.render(sky_model, sun_a, used);
+  same_as_fresh(used);
+
+  // Another renderer's token, or one whose caller does not allow the reuse: cleared.
+  scribble_outside(used);
+  const render::Renderer other(cam, o);
+  other.render(sky_model, sun_a, used);
+  same_as_fresh(used);
+  scribble_outside(used);
+  render::RenderOptions careful = o;
+  careful.reuse_cleared = false;
+  const render::Renderer plain(cam, careful);
+  plain.render(sky_model, sun_b, used);
+  plain.render(sky_model, sun_a, used);
+  same_as_fresh(used);
+
+  // The token is trusted: pixels changed behind it stay changed (what reuse_cleared asks of a caller).
+  r.render(sky_model, sun_a, used);
+  scribble_outside(used);
+  r.render(sky_model, sun_a, used);
+  CHECK(std::isnan(used.channel("DoLP.Y")[0]));
+}
+
+TEST_CASE("render_rows gives the rows of the whole frame, into bands reused for other rows", "[renderer][bands]") {
+  const auto cam = small_fisheye(25);
+  const sky::RayleighSky sky_model(sky::RayleighParams{0.9});
+  const sky::Sun suns[] = {sun_at(70, 30), sun_at(250, 5)};
+  const sky::SkyModel* one[] = {&sky_model};
+  for (bool keep_rays : {true, false}) {    // the planes' spans, or rays traced per tile
+    for (bool reuse : {true, false}) {      // bands cleared only where the old rows' spans were wider, or fully
+      for (int band_rows : {24, 80, 7}) {   // not a multiple of the 16-row tiles; the whole frame; odd
+        INFO("keep_rays " << keep_rays << ", reuse_cleared " << reuse << ", band_rows " << band_rows);
+        render::RenderOptions o;
+        o.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
+        o.keep_rays = keep_rays;
+        o.reuse_cleared = reuse;
+        const render::Renderer r(cam, o);
+        std::array<stack::Frame, 2> bands;
+        int k = 0;
+        for (const sky::Sun& sun : suns) {
+          const stack::Frame whole = r.render(sky_model, sun);
+          for (int y0 = 0; y0 < cam->height(); y0 += band_rows, ++k) {
+            const int y1 = std::min(cam->height(), y0 + band_rows);
+            stack::Frame& band = bands[static_cast<std::size_t>(k % 2)];
+            r.render_rows(one, sun, y0, y1, band);
+            REQUIRE(band.width == cam->width());
+            REQUIRE(band.height == y1 - y0);
+            REQUIRE(band.channels.size() == whole.channels.size());
+            for (const auto& [name, data] : whole.channels) {
+              INFO(name << " rows " << y0 << "-" << y1);
+              const auto from = static_cast<std::ptrdiff_t>(y0) * cam->width(), to = static_cast<std::ptrdiff_t>(y1) * cam->width();
+              CHECK(same_bytes(std::vector<float>(data.begin() + from, data.begin() + to), band.channel(name)));
+            }
+          }
+        }
+      }
+    }
+  }
+  render::RenderOptions sampled;
+  sampled.spp = 4;
+  stack::Frame band;
+  CHECK_THROWS_AS(render::Renderer(cam, sampled).render_rows(one, suns[0], 0, 8, band), std::logic_error);
+  CHECK_THROWS_AS(render::Renderer(cam, {}).render_rows(one, suns[0], 8, 8, band), std::invalid_argument);
+  CHECK_THROWS_AS(render::Renderer(cam, {}).render_rows(one, suns[0], 0, cam->height() + 1, band), std::invalid_argument);
 }
 
 TEST_CASE("a frame holds only the channels asked for, with the same values", "[renderer][pay-for-what-you-ask]") {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <tuple>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -387,5 +388,85 @@ TEST_CASE("the overlapped writer leaves nothing behind when a part fails to rend
   }
   CHECK_FALSE(fs::exists(path));
   CHECK(fs::is_empty(dir));  // no temporary either
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the banded writer fills bands in order, one at a time, into the bytes of the plain writer", "[stack]") {
+  const fs::path dir = temp_dir();
+  std::vector<scene::Truth> truths(3);
+  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  const int w = 5, h = 7;
+  // Each pixel's value names its part, row and column, so a band in the wrong place would show.
+  auto value = [&](std::size_t i, int y, int x) { return static_cast<float>(i) * 100 + static_cast<float>(y) + 0.01f * static_cast<float>(x); };
+  for (bool half : {false, true}) {
+    for (int band_rows : {1, 3, 7, 50}) {  // bands that divide the height, that do not, one for all
+      INFO("half " << half << ", band_rows " << band_rows);
+      stack::WriteOptions o;
+      o.compression = "none";
+      o.half = half;
+      std::vector<std::tuple<std::size_t, int, int>> order;
+      std::atomic<int> inside{0};
+      int most_inside = 0;
+      std::array<stack::Frame, 2> bands;
+      stack::write_stack_banded((dir / "banded.exr").string(), truths, {"DoLP.Y", "mask"}, w, h, {}, o, band_rows, bands,
+                                [&](std::size_t i, int y0, int y1, stack::Frame& f) {
+                                  most_inside = std::max(most_inside, ++inside);
+                                  order.emplace_back(i, y0, y1);
+                                  f.width = w, f.height = y1 - y0;
+                                  for (const char* c : {"DoLP.Y", "mask"}) {
+                                    std::vector<float>& v = f.channels[c];
+                                    v.assign(static_cast<std::size_t>(w * (y1 - y0)), 0.0f);
+                                    for (int y = y0; y < y1; ++y)
+                                      for (int x = 0; x < w; ++x) v[static_cast<std::size_t>((y - y0) * w + x)] = value(i, y, x);
+                                  }
+                                  --inside;
+                                });
+      std::vector<std::tuple<std::size_t, int, int>> expected;
+      for (std::size_t i = 0; i < truths.size(); ++i)
+        for (int y0 = 0; y0 < h; y0 += band_rows) expected.emplace_back(i, y0, std::min(h, y0 + band_rows));
+      CHECK(order == expected);
+      CHECK(most_inside == 1);
+      stack::Frame one;
+      stack::write_stack_reusing((dir / "plain.exr").string(), truths, {"DoLP.Y", "mask"}, w, h, {}, o,
+                                 [&](std::size_t i) -> const stack::Frame& {
+                                   one.width = w, one.height = h;
+                                   for (const char* c : {"DoLP.Y", "mask"}) {
+                                     std::vector<float>& v = one.channels[c];
+                                     v.resize(static_cast<std::size_t>(w * h));
+                                     for (int y = 0; y < h; ++y)
+                                       for (int x = 0; x < w; ++x) v[static_cast<std::size_t>(y * w + x)] = value(i, y, x);
+                                   }
+                                   return one;
+                                 });
+      CHECK(file_bytes((dir / "banded.exr").string()) == file_bytes((dir / "plain.exr").string()));
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the banded writer leaves nothing behind when a band fails to render", "[stack][errors]") {
+  const fs::path dir = temp_dir();
+  const std::string path = (dir / "broken.exr").string();
+  std::vector<scene::Truth> truths(3);
+  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  stack::WriteOptions o;
+  o.compression = "none";
+  for (int failing : {0, 1, 5}) {  // the first band (on this thread), the second (on the filler), a later one
+    INFO("failing band " << failing);
+    std::array<stack::Frame, 2> bands;
+    int band = 0;
+    try {
+      stack::write_stack_banded(path, truths, {"mask"}, 4, 3, {}, o, 2, bands, [&](std::size_t, int y0, int y1, stack::Frame& f) {
+        if (band++ == failing) throw std::runtime_error("renderer failed on a band");
+        f.width = 4, f.height = y1 - y0;
+        f.channels["mask"] = std::vector<float>(static_cast<std::size_t>(4 * (y1 - y0)), 1.0f);
+      });
+      FAIL("no error");
+    } catch (const scene::SceneError& e) {
+      CHECK_THAT(e.what(), Catch::Contains("broken.exr") && Catch::Contains("renderer failed on a band"));
+    }
+    CHECK_FALSE(fs::exists(path));
+    CHECK(fs::is_empty(dir));  // no temporary either
+  }
   fs::remove_all(dir);
 }
