@@ -79,11 +79,7 @@ TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, an
 
 TEST_CASE("ring anisotropy: a Rayleigh sky is a function of the angle to the sun, Berry's neutral points are not",
           "[skypole][cloud][berry]") {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.size = 128;
-  spec.heading_deg = 30;
-  spec.max_dolp = 0.7;
+  testing::SyntheticSpec spec = testing::paper_day(128, 30);
   const double rayleigh = skypole::ring_anisotropy(skypole::prepare_sky_images(testing::make_stack(spec), {}, 1, "test"));
   spec.sky_model = "berry";
   const double berry = skypole::ring_anisotropy(skypole::prepare_sky_images(testing::make_stack(spec), {}, 1, "test"));

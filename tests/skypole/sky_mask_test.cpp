@@ -59,12 +59,7 @@ double share(const std::vector<std::uint8_t>& v, const skypole::SkyImages& sky) 
 }  // namespace
 
 TEST_CASE("the sky mask leaves a clear day alone", "[skypole][mask]") {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.size = 128;
-  spec.heading_deg = 30;
-  spec.max_dolp = 0.7;
-  spec.noise = 0.01;
+  testing::SyntheticSpec spec = testing::paper_day(128, 30, 0.01);
   const stack::Stack clear = testing::make_stack(spec);
   const skypole::SkyImages sky = skypole::prepare_sky_images(clear, {}, 1, "test");
   const skypole::SkyMask m = skypole::compute_sky_mask(sky, clear);
@@ -74,11 +69,7 @@ TEST_CASE("the sky mask leaves a clear day alone", "[skypole][mask]") {
 }
 
 TEST_CASE("the sky mask finds a painted cloud, and the methods stop following it", "[skypole][mask]") {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.size = 128;
-  spec.heading_deg = 30;
-  spec.max_dolp = 0.7;
+  testing::SyntheticSpec spec = testing::paper_day(128, 30);
   spec.noise = GENERATE(0.0, 0.01);
   const stack::Stack clear = testing::make_stack(spec);
   // A blob 40° across-ish in the south-west of the camera's sky, 50° from the zenith: ≈ 30 % of it.

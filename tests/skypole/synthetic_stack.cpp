@@ -30,6 +30,16 @@ std::vector<sky::Instant> paper_times() {
   return times_every("2022-09-23T08:00:00Z", "2022-09-23T16:00:00Z", 30);
 }
 
+SyntheticSpec paper_day(int size, double heading_deg, double noise) {
+  SyntheticSpec spec;
+  spec.times = paper_times();
+  spec.size = size;
+  spec.heading_deg = heading_deg;
+  spec.max_dolp = 0.7;
+  spec.noise = noise;
+  return spec;
+}
+
 stack::Stack make_stack(const SyntheticSpec& spec) {
   camera::Intrinsics k;
   k.width = k.height = spec.size;

@@ -36,6 +36,10 @@ std::vector<sky::Instant> times_every(const std::string& start, const std::strin
 // The paper's day: 2022-09-23 every 30 min 08:00–16:00 UTC (17 frames).
 std::vector<sky::Instant> paper_times();
 
+// The paper's day seen by a `size`-pixel camera turned to `heading_deg`, under a Rayleigh sky of
+// Pmax 0.7 with polarizer noise `noise`: the clear day most estimator tests start from.
+SyntheticSpec paper_day(int size, double heading_deg, double noise = 0);
+
 stack::Stack make_stack(const SyntheticSpec& spec);
 
 }  // namespace skypol::testing

@@ -155,12 +155,7 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
 }
 
 TEST_CASE("auto returns the agreeing answer of the most accurate method and says which", "[skypole][uncertainty][auto]") {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.size = 96;
-  spec.heading_deg = 300;
-  spec.noise = 0.01;
-  spec.max_dolp = 0.7;
+  testing::SyntheticSpec spec = testing::paper_day(96, 300, 0.01);
   stack::Stack stack = testing::make_stack(spec);
   std::vector<skypole::PoleEstimate> all;
   for (const std::string& m : skypole::method_names())
@@ -269,12 +264,7 @@ TEST_CASE("the sector jackknife sees a bias that stays in one part of the sky; t
   // A thin veil with the wrong E-vectors (DoLP a tenth, AoLP turned by 40°: what no clear sky shows)
   // over a 25° disc, 60° from the axis, in the middle of sector 3, in every frame; the sky mask is
   // off so that the veil reaches sun_vector's fits (sky_mask_test: it moves them by degrees).
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.size = 96;
-  spec.heading_deg = 30;
-  spec.max_dolp = 0.7;
-  spec.noise = 0.01;
+  testing::SyntheticSpec spec = testing::paper_day(96, 30, 0.01);
   const stack::Stack clear = testing::make_stack(spec);
   stack::Stack veiled = clear;
   {
