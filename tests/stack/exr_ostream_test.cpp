@@ -21,20 +21,14 @@
 #include "scene/truth.h"
 #include "stack/exr_ostream.h"
 #include "stack/stack_io.h"
+#include "test_files.h"
 
 using namespace skypol;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() / ("skypol-ostream-test-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
-std::string file_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+fs::path temp_dir() { return test::temp_dir("skypol-ostream-test"); }
+using test::file_bytes;
 }  // namespace
 
 TEST_CASE("the background stream puts every byte where it was written, across blocks and seeks back", "[stack][ostream]") {

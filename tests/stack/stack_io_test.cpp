@@ -18,6 +18,7 @@
 #include "scene/truth.h"
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
+#include "test_files.h"
 
 #include <OpenImageIO/imageio.h>
 #include <limits>
@@ -47,10 +48,14 @@ heading_deg = 200
 tilt_deg = 5
 )";
 
-fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() / ("skypol-test-" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+fs::path temp_dir() { return test::temp_dir("skypol-test"); }
+using test::file_bytes;
+
+// n parts' truths, a minute apart: all the stack writers need of them.
+std::vector<scene::Truth> truths_every_minute(std::size_t n) {
+  std::vector<scene::Truth> truths(n);
+  for (std::size_t i = 0; i < n; ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  return truths;
 }
 
 }  // namespace
@@ -262,13 +267,6 @@ TEST_CASE("asking for a channel a stack lacks names it and the ones it has", "[s
   fs::remove_all(dir);
 }
 
-namespace {
-std::string file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-}  // namespace
-
 TEST_CASE("a stack rendered after another, in that one's memory, is the file a fresh process writes", "[stack]") {
   // render_scene keeps its frame for the next stack on the same thread (render/pipeline.cpp); a
   // new thread starts with none, as a new process does.
@@ -342,8 +340,7 @@ TEST_CASE("an uncompressed stack, each part rendered while the last is written, 
 
 TEST_CASE("the overlapped writer fills parts in order, one at a time, into the bytes of the plain writer", "[stack]") {
   const fs::path dir = temp_dir();
-  std::vector<scene::Truth> truths(5);
-  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  const std::vector<scene::Truth> truths = truths_every_minute(5);
   auto fill = [](std::size_t i, stack::Frame& f) {
     f.width = 4, f.height = 3;
     f.channels["mask"] = std::vector<float>(12, static_cast<float>(i) + 0.5f);
@@ -373,8 +370,7 @@ TEST_CASE("the overlapped writer fills parts in order, one at a time, into the b
 TEST_CASE("the overlapped writer leaves nothing behind when a part fails to render", "[stack][errors]") {
   const fs::path dir = temp_dir();
   const std::string path = (dir / "broken.exr").string();
-  std::vector<scene::Truth> truths(4);
-  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  const std::vector<scene::Truth> truths = truths_every_minute(4);
   std::array<stack::Frame, 2> frames;
   try {
     stack::write_stack_overlapped(path, truths, {"mask"}, 4, 3, {}, {}, frames, [](std::size_t i, stack::Frame& f) {
@@ -393,11 +389,20 @@ TEST_CASE("the overlapped writer leaves nothing behind when a part fails to rend
 
 TEST_CASE("the banded writer fills bands in order, one at a time, into the bytes of the plain writer", "[stack]") {
   const fs::path dir = temp_dir();
-  std::vector<scene::Truth> truths(3);
-  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  const std::vector<scene::Truth> truths = truths_every_minute(3);
   const int w = 5, h = 7;
   // Each pixel's value names its part, row and column, so a band in the wrong place would show.
   auto value = [&](std::size_t i, int y, int x) { return static_cast<float>(i) * 100 + static_cast<float>(y) + 0.01f * static_cast<float>(x); };
+  // Rows y0..y1 of part i into f, as the banded writer asks for a band and the plain one for a frame.
+  auto paint = [&](std::size_t i, int y0, int y1, stack::Frame& f) {
+    f.width = w, f.height = y1 - y0;
+    for (const char* c : {"DoLP.Y", "mask"}) {
+      std::vector<float>& v = f.channels[c];
+      v.resize(static_cast<std::size_t>(w * (y1 - y0)));
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < w; ++x) v[static_cast<std::size_t>((y - y0) * w + x)] = value(i, y, x);
+    }
+  };
   for (bool half : {false, true}) {
     for (int band_rows : {1, 3, 7, 50}) {  // bands that divide the height, that do not, one for all
       INFO("half " << half << ", band_rows " << band_rows);
@@ -412,13 +417,7 @@ TEST_CASE("the banded writer fills bands in order, one at a time, into the bytes
                                 [&](std::size_t i, int y0, int y1, stack::Frame& f) {
                                   most_inside = std::max(most_inside, ++inside);
                                   order.emplace_back(i, y0, y1);
-                                  f.width = w, f.height = y1 - y0;
-                                  for (const char* c : {"DoLP.Y", "mask"}) {
-                                    std::vector<float>& v = f.channels[c];
-                                    v.assign(static_cast<std::size_t>(w * (y1 - y0)), 0.0f);
-                                    for (int y = y0; y < y1; ++y)
-                                      for (int x = 0; x < w; ++x) v[static_cast<std::size_t>((y - y0) * w + x)] = value(i, y, x);
-                                  }
+                                  paint(i, y0, y1, f);
                                   --inside;
                                 });
       std::vector<std::tuple<std::size_t, int, int>> expected;
@@ -429,13 +428,7 @@ TEST_CASE("the banded writer fills bands in order, one at a time, into the bytes
       stack::Frame one;
       stack::write_stack_reusing((dir / "plain.exr").string(), truths, {"DoLP.Y", "mask"}, w, h, {}, o,
                                  [&](std::size_t i) -> const stack::Frame& {
-                                   one.width = w, one.height = h;
-                                   for (const char* c : {"DoLP.Y", "mask"}) {
-                                     std::vector<float>& v = one.channels[c];
-                                     v.resize(static_cast<std::size_t>(w * h));
-                                     for (int y = 0; y < h; ++y)
-                                       for (int x = 0; x < w; ++x) v[static_cast<std::size_t>(y * w + x)] = value(i, y, x);
-                                   }
+                                   paint(i, 0, h, one);
                                    return one;
                                  });
       CHECK(file_bytes((dir / "banded.exr").string()) == file_bytes((dir / "plain.exr").string()));
@@ -447,8 +440,7 @@ TEST_CASE("the banded writer fills bands in order, one at a time, into the bytes
 TEST_CASE("the banded writer leaves nothing behind when a band fails to render", "[stack][errors]") {
   const fs::path dir = temp_dir();
   const std::string path = (dir / "broken.exr").string();
-  std::vector<scene::Truth> truths(3);
-  for (std::size_t i = 0; i < truths.size(); ++i) truths[i].time.unix_seconds = 60.0 * static_cast<double>(i);
+  const std::vector<scene::Truth> truths = truths_every_minute(3);
   stack::WriteOptions o;
   o.compression = "none";
   for (int failing : {0, 1, 5}) {  // the first band (on this thread), the second (on the filler), a later one
