@@ -245,11 +245,15 @@ void Renderer::render(const sky::SkyModel& sky, const sky::Sun& sun, stack::Fram
   render(one, sun, frame);
 }
 
-void Renderer::render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const {
+void Renderer::check_skies(std::span<const sky::SkyModel* const> skies) const {
   if (skies.size() != 1 && skies.size() != options_.bands.size()) {
     throw std::invalid_argument("renderer: " + std::to_string(skies.size()) + " sky models for " +
                                 std::to_string(options_.bands.size()) + " bands (give one, or one per band)");
   }
+}
+
+void Renderer::render(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const {
+  check_skies(skies);
   if (options_.spp == 1) {
     render_cached(skies, sun, frame, 0, camera_->height());
   } else {
@@ -366,9 +370,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
 void Renderer::render_rows(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, int y0, int y1,
                            stack::Frame& band) const {
   if (options_.spp != 1) throw std::logic_error("renderer: rows are rendered at 1 sample per pixel only");
-  if (skies.size() != 1 && skies.size() != options_.bands.size())
-    throw std::invalid_argument("renderer: " + std::to_string(skies.size()) + " sky models for " +
-                                std::to_string(options_.bands.size()) + " bands (give one, or one per band)");
+  check_skies(skies);
   if (!(0 <= y0 && y0 < y1 && y1 <= camera_->height()))
     throw std::invalid_argument("renderer: rows [" + std::to_string(y0) + ", " + std::to_string(y1) +
                                 ") outside the camera's " + std::to_string(camera_->height()));

@@ -91,6 +91,8 @@ class Renderer {
                   std::span<float> surface_s0 = {}) const;
   // Shaded occluders at spp > 1: surface_s0_ as the mean over each pixel's samples.
   void shade_sampled();
+  // Throws unless there is one sky model, or one per band.
+  void check_skies(std::span<const sky::SkyModel* const> skies) const;
   void render_cached(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame, int first,
                      int last) const;
   void render_sampled(std::span<const sky::SkyModel* const> skies, const sky::Sun& sun, stack::Frame& frame) const;
