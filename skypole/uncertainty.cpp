@@ -82,20 +82,28 @@ int sector_of(double x, double y, const Eigen::Vector2d& c, int sectors) {
 
 stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c, int g, int sectors) {
   stack::Stack sub = stack;
+  // The sector's pixels, found once for the frames' size (every frame of a stack has the same).
+  std::vector<std::size_t> in_sector;
+  int w = -1, h = -1;
   for (stack::Frame& f : sub.frames) {
-    const std::size_t n = static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height);
+    if (f.width != w || f.height != h) {
+      w = f.width, h = f.height;
+      in_sector.clear();
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (sector_of(x, y, c, sectors) == g)
+            in_sector.push_back(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+    }
+    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     std::vector<float>& mask = f.channels["mask"];
     if (mask.size() != n) mask.assign(n, 1.0f);  // a stack without a mask: every pixel was usable
-    for (int y = 0; y < f.height; ++y)
-      for (int x = 0; x < f.width; ++x)
-        if (sector_of(x, y, c, sectors) == g)
-          mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x)] = 0.0f;
+    for (const std::size_t i : in_sector) mask[i] = 0.0f;
   }
   return sub;
 }
 
 std::optional<Eigen::Matrix2d> group_jackknife(PoleEstimate& e, int k, const std::function<PoleEstimate(int)>& sub,
-                                               const std::string& what) {
+                                               const std::string& what, const std::string& cause) {
   if (!e.valid) return std::nullopt;
   std::vector<Eigen::Vector2d> offsets;
   for (int g = 0; g < k; ++g) {
@@ -107,9 +115,6 @@ std::optional<Eigen::Matrix2d> group_jackknife(PoleEstimate& e, int k, const std
       s.why_invalid = err.what();
     }
     const std::string without = "unstable: without " + what + " " + std::to_string(g + 1) + " of " + std::to_string(k);
-    const std::string cause = what == "frame group"
-                                  ? "the window is too short, too sparse or too noisy for a stated uncertainty"
-                                  : "the answer rests on one part of the sky (cloud, a neutral point, saturation)";
     if (!s.valid) {
       e.valid = false;
       e.why_invalid = without + " the method finds no pole (" + s.why_invalid + "); " + cause;
@@ -152,14 +157,15 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int n,
         for (int i = 0; i < n; ++i) keep[static_cast<std::size_t>(i)] = i % k != g ? 1 : 0;
         return refit(keep);
       },
-      "frame group");
+      "frame group", "the window is too short, too sparse or too noisy for a stated uncertainty");
 }
 
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
                                                 const std::function<PoleEstimate(const stack::Stack&)>& method,
                                                 const Eigen::Vector2d& centre_px, int sectors) {
   return group_jackknife(
-      e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); }, "sky sector");
+      e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); }, "sky sector",
+      "the answer rests on one part of the sky (cloud, a neutral point, saturation)");
 }
 
 double sigma_deg_of(const Eigen::Matrix2d& c) {

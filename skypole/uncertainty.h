@@ -71,11 +71,11 @@ stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c
 
 // The delete-a-group jackknife's covariance (rad², tangent plane at `e`) from K sub-answers,
 // `sub(g)` being the answer without group g. Declines `e` and returns nullopt when a sub-run fails
-// or finds the other end of the axis; `what` names the groups in the reason ("frame group",
-// "sky sector").
+// or finds the other end of the axis; the reason names the groups (`what`: "frame group", "sky
+// sector") and what an unstable answer means for them (`cause`).
 std::optional<Eigen::Matrix2d> group_jackknife(PoleEstimate& e, int groups,
                                                const std::function<PoleEstimate(int g)>& sub,
-                                               const std::string& what);
+                                               const std::string& what, const std::string& cause);
 
 // The frame jackknife: K = min(frames, max_groups) interleaved groups; `refit(keep)` answers with
 // only the frames whose keep[i] is 1. Stacks of fewer than 3 frames cannot be jackknifed: `e` is
