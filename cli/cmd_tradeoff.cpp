@@ -76,7 +76,7 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_option("--count", a->options.count, "calibration: number of scenes (default 300; --small 6)");
   cmd->add_option("--binning", a->options.binning, "calibration, compression: binning of the 2448×2048 sensor (calibration 8, compression 4; --small 16)");
   cmd->add_option("--max-uncertainty", a->options.max_uncertainty_deg,
-                  "calibration: the bound every method runs with (95 % cone, degrees; default 5; inf: none)");
+                  "calibration: the bound every method runs with (95 % cone, degrees; default 2.5, i.e. σ ≤ 1.02°, so that 5° off is 5σ; inf: none)");
   cmd->add_flag("--progress", a->options.progress, "calibration: report each scene on stderr");
   cmd->add_flag("--uncalibrated", a->options.uncalibrated,
                 "calibration: σ without the methods' calibration factors (to measure them)");

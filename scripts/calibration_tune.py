@@ -1,33 +1,39 @@
 #!/usr/bin/python3
-"""Read the methods' calibration off an uncalibrated run of the calibration study.
+"""Read the methods' calibration off uncalibrated runs of the calibration study.
 
     skypol tradeoff calibration --out DIR --seed 1 --count 500 --binning 16 \
         --max-uncertainty inf --uncalibrated
-    scripts/calibration_tune.py DIR/calibration.csv [--bound 5] [--margin 0.7] [--apply FILE] [--auto MODE]
+    scripts/calibration_tune.py S1/calibration.csv [S3/calibration.csv ...] [--bound 2.5] [--margin 0.9]
+        [--apply FILE] [--auto MODE] [--replace RERUN.csv ...] [--only METHOD ...]
 
 An uncalibrated run keeps every answer the method itself gives (no gates, no bound) with its raw
 jackknife covariances -- over frame groups (C_frames) and, for the methods that have one, over
 sky sectors (C_sectors; skypole/uncertainty.h) -- and the measures the gates and the per-answer
-terms read (residual, window, unpolarized share, ring anisotropy, pixel angle). So every
+terms read (residual, window, unpolarized share, ring anisotropy, pixel angle, frames). So every
 calibration (skypole/evaluate.cpp, method_calibrations()) can be tried here without running
 anything again:
-    sigma^2 = lmax(a^2 C_frames + b^2 C_sectors) + floor^2 + (share*max(0, residual - pixels*pixel_deg))^2
-              + (u*unpolarized_share)^2,
-declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
-Per method it prints the calibration with zero lies (counted at err > 5*margin*sigma) and coverage
-in the band [0.90, --max-coverage] that keeps the most answers (within 5 %: the fewest gates, then
-the fewest sigma terms, then coverage nearest 95 %), and what auto (evaluate.cpp,
-combine_estimates) makes of the calibrated answers.
+    sigma^2 = lmax(w^2 (a^2 C_frames + b^2 C_sectors)) + floor^2
+              + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2,
+w^2 the widening for the jackknives' few groups (uncertainty.h, few_groups_widening2: the F(2, nu)
+95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of min(frames, 6) - 1 and
+5), declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
+Several runs (seeds) are pooled. Per method it prints the calibration with zero lies (counted at
+err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] that keeps the most answers
+(within 5 %: the fewest gates, then the fewest sigma terms, then coverage nearest 95 %), its
+figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
+calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, max_residual, min_window, max_unpolarized, max_anisotropy}}; missing keys are 0 or no
-gate) instead of searching, e.g. on a held-out seed's uncalibrated run.
+pixels, dof, max_residual, min_window, max_unpolarized, max_anisotropy}}; missing keys are 0, no
+gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
+held-out seed's uncalibrated run.
 --auto ranked|sharpest|mean|mean_raw: auto returns the agreeing answer of the most accurate method
 (RANK; what evaluate.cpp does), the agreeing answer with the smallest sigma, or the
 inverse-variance weighted mean of the agreeing answers, weighted by the calibrated sigma (mean) or
 by the raw jackknives' variance plus the uncalibrated run's 0.05 deg floor (mean_raw), stated with
 the sharpest member's sigma; all four are printed with --auto both (the default).
---replace RERUN.csv: the rows of the methods a `--methods` re-run of the same seed and count holds
-replace the run's (one method changed after the run).
+--replace RERUN.csv ...: the rows of the (seed, method) pairs that `--methods` re-runs of the same
+seeds and counts hold replace the runs' (a method changed after the run).
+--only METHOD ...: search or apply these methods only.
 --plot FILE.png: the reliability diagram (stated 95 % cone against error; share inside per bin).
 A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
 from its sigma and C_sectors = 0.
@@ -44,34 +50,36 @@ K95 = 2.4477  # sqrt(chi2_2(0.95))
 AGREE = 1.5185  # sqrt(chi2_2(0.999) / chi2_2(0.95)), as in evaluate.cpp
 LIE_DEG, LIE_SIGMA = 5.0, 5.0
 RAW_FLOOR = 0.05  # the uncalibrated run's floor
+SECTORS = 6  # uncertainty.h, sector_jackknife
 MAX_COVERAGE = 0.98
 MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leaves room for a held-out seed
 # auto (evaluate.cpp, auto_rank()): the agreeing answer of the first method in this order, the
 # methods by the median error of their calibrated answers on seed 1 (the tuning seed).
 RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
-SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "invariance")  # evaluate.cpp has_sector_jackknife
+SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp")  # evaluate.cpp has_sector_jackknife
 
 
 def fnum(s):
     return float(s) if s not in ("", None) else math.nan
 
 
-def load(path, replace=None):
-    rows = list(csv.DictReader(open(path)))
+def load(paths, replace=()):
+    """The answers of one or more runs (seeds), every method's rows in the same (seed, stack) order."""
+    rows = [r for p in paths for r in csv.DictReader(open(p))]
     if replace:
-        # A `--methods` re-run: its methods' rows replace the run's (same seed and count: the same
-        # scenes, in the same order).
-        extra = [r for r in csv.DictReader(open(replace)) if r["method"] != "auto"]
-        redo = {r["method"] for r in extra}
-        rows = [r for r in rows if r["method"] not in redo] + extra
-        rows.sort(key=lambda r: int(r["stack"]))
+        # `--methods` re-runs: their (seed, method) rows replace the runs' (same seed and count: the
+        # same scenes).
+        extra = [r for p in replace for r in csv.DictReader(open(p)) if r["method"] != "auto"]
+        redo = {(r["seed"], r["method"]) for r in extra}
+        rows = [r for r in rows if (r["seed"], r["method"]) not in redo] + extra
+    rows.sort(key=lambda r: (int(r["seed"]), int(r["stack"])))
     by = {}
     for r in rows:
         m = r["method"]
         if m == "auto":
             continue
         d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "cf", "cs", "res", "window", "unpol",
-                                               "aniso", "pixel", "off")})
+                                               "aniso", "pixel", "off", "frames", "sensor", "seed")})
         d["stack"].append(int(r["stack"]))
         d["sky"].append(r["sky"])
         v = r["valid"] == "1"
@@ -96,6 +104,9 @@ def load(path, replace=None):
         d["unpol"].append(fnum(r["unpolarized_share"]))
         d["aniso"].append(fnum(r.get("ring_anisotropy", "0") or "0"))
         d["pixel"].append(fnum(r["pixel_deg"]))
+        d["frames"].append(int(r["frames"]))
+        d["sensor"].append(r["sensor"])
+        d["seed"].append(int(r["seed"]))
     for m, d in by.items():
         for k in d:
             d[k] = np.array(d[k])
@@ -123,9 +134,32 @@ def lmax(aa, ab, bb):
     return 0.5 * (aa + bb) + np.sqrt(0.25 * (aa - bb) ** 2 + ab ** 2)
 
 
+def f95_ratio(nu):
+    """q(nu)/q(inf), q the 95 % quantile of F(2, nu): (nu/2)(0.05^(-2/nu) - 1), q(inf) = -ln 0.05
+    (uncertainty.cpp, few_groups_factor2)."""
+    nu = np.maximum(nu, 1.0)
+    return (nu / 2.0) * np.expm1(-2.0 / nu * math.log(0.05)) / -math.log(0.05)
+
+
+def jackknife_factor2(d, A, B, b):
+    """The squared widening of a covariance estimated from few jackknife groups (uncertainty.h):
+    Welch-Satterthwaite degrees of freedom of A + B, A from the frame jackknife's min(frames, 6)
+    groups, B from the 6 sectors."""
+    nf = np.minimum(d["frames"], 6) - 1.0
+    ns = SECTORS - 1.0
+    den = A * A / np.maximum(nf, 1.0) + (B * B / ns if b > 0 else 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        nu = np.where(den > 0, (A + B) ** 2 / np.where(den > 0, den, 1.0), 1e12)
+    return f95_ratio(nu)
+
+
 def sigma_of(d, c):
     a, b = c.get("factor", 1.0), c.get("sector", 0.0)
     C = a * a * d["cf"] + b * b * d["cs"]
+    if c.get("dof", False):
+        A = a * a * np.maximum(lmax(*d["cf"].T), 0.0)
+        B = b * b * np.maximum(lmax(*d["cs"].T), 0.0)
+        C = C * jackknife_factor2(d, A, B, b)[:, None]
     excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
     iso = c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
     return np.sqrt(np.maximum(lmax(C[:, 0], C[:, 1], C[:, 2]), 0.0) + iso)
@@ -158,9 +192,13 @@ def stats(d, ok, sigma, sel=None):
 
 
 def search(m, d, bound):
-    factors = [0.5, 0.75, 1, 1.5, 2, 3, 4, 6, 8, 12, 16]
-    sectors = [0.0] if m not in SECTOR_METHODS else [0.0, 0.25, 0.5, 0.75, 1, 1.5, 2, 3]
-    floors = [0.0, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.25, 1.5, 2.0]
+    factors = [0.5, 0.75, 1, 1.25, 1.5, 2, 3, 4, 6, 8, 12, 16]
+    # A method with a sector jackknife counts it (b > 0): the errors that live in one part of the sky
+    # are what it is there for, and a tuning set that happens to hold few of them must not drop it.
+    sectors = [0.0] if m not in SECTOR_METHODS else [0.25, 0.5, 0.75, 1, 1.5, 2, 3]
+    # The smallest floors are numerical: a noise-free stack's answers agree with the truth to
+    # 1e-6..1e-4 deg (float32 Stokes, the solvers' tolerances), below what a jackknife resolves.
+    floors = [1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.25, 1.5, 2.0]
     unpols = [0.0, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0]
     shares = [0.0] if m != "classic" else [0.25, 0.5, 1.0]
     pixels = [0.0] if m != "classic" else [0, 2, 4, 6]
@@ -191,7 +229,8 @@ def search(m, d, bound):
         part = combos[start:start + chunk]
         cone_ok, lie_v, inside_v = [], [], []
         for f, b, fl, u, sh, px in part:
-            sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px})
+            sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px,
+                                 "dof": True})
             ok = K95 * sigma <= bound
             cone_ok.append(ok)
             lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
@@ -206,7 +245,8 @@ def search(m, d, bound):
             f, b, fl, u, sh, px = part[j]
             terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0)
             found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
-                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, **gates[g]}))
+                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "dof": True,
+                           **gates[g]}))
     if not found:
         return None
     # Within 5 % of the most answers any calibration keeps: the fewest gates (each is a chance to
@@ -290,10 +330,11 @@ def auto_report(by, cal, bound, mode):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("csv")
-    ap.add_argument("--bound", type=float, default=5.0)
+    ap.add_argument("csv", nargs="+", help="calibration.csv of one or more uncalibrated runs (seeds), pooled")
+    ap.add_argument("--bound", type=float, default=2.5, help="largest 95 %% cone an answer may have (the study's "
+                    "--max-uncertainty, default 2.5)")
     ap.add_argument("--apply")
-    ap.add_argument("--replace", help="calibration.csv of a --methods re-run of the same seed and count: its "
+    ap.add_argument("--replace", nargs="*", default=[], help="calibration.csv of --methods re-runs of the same seeds and counts: their "
                     "methods' rows replace those of CSV")
     ap.add_argument("--plot", help="write the reliability diagram of the calibration (PNG) here")
     ap.add_argument("--auto", default="both", choices=["sharpest", "ranked", "mean", "mean_raw", "both"])
@@ -301,11 +342,14 @@ def main():
                     help="upper end of the coverage band the search accepts (1: any zero-lie calibration)")
     ap.add_argument("--margin", type=float, default=1.0,
                     help="the search counts a lie at error > 5·margin·σ (0.7: room for a held-out seed)")
+    ap.add_argument("--only", nargs="*", help="search (or apply) these methods only")
     a = ap.parse_args()
     global MAX_COVERAGE, MARGIN
     MAX_COVERAGE = a.max_coverage
     MARGIN = a.margin
     by = load(a.csv, a.replace)
+    if a.only:
+        by = {m: d for m, d in by.items() if m in a.only}
     if a.apply:
         cal = json.load(open(a.apply))
     else:
@@ -325,6 +369,9 @@ def main():
         print(m, "all", stats(d, ok, sigma))
         for sky in skies:
             print(m, sky, stats(d, ok, sigma, d["sky"] == sky))
+        seeds = sorted(set(d["seed"]))
+        for seed in seeds if len(seeds) > 1 else []:
+            print(m, f"seed {seed}", stats(d, ok, sigma, d["seed"] == seed))
     for mode in (["sharpest", "ranked", "mean", "mean_raw"] if a.auto == "both" else [a.auto]):
         auto_report(by, cal, a.bound, mode)
     if a.plot:

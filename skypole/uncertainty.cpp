@@ -149,7 +149,7 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int n,
                     "; the jackknife needs 3)";
     return std::nullopt;
   }
-  const int k = std::min(n, std::max(max_groups, 2));
+  const int k = frame_jackknife_groups(n, max_groups);
   return group_jackknife(
       e, k,
       [&](int g) {
@@ -173,13 +173,34 @@ double sigma_deg_of(const Eigen::Matrix2d& c) {
   return std::sqrt(std::max(es.eigenvalues().maxCoeff(), 0.0)) / kDeg;
 }
 
-void set_calibrated_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& frames, double a,
-                                const Eigen::Matrix2d& sectors, double b, double floor_deg) {
+int frame_jackknife_groups(int frames, int max_groups) { return std::min(frames, std::max(max_groups, 2)); }
+
+double few_groups_widening2(double a, int frame_groups, double b, int sector_groups) {
+  // Welch–Satterthwaite: ν = (A + B)² / (A²/ν_A + B²/ν_B).
+  double den = 0;
+  if (frame_groups > 1) den += a * a / (frame_groups - 1);
+  if (sector_groups > 1) den += b * b / (sector_groups - 1);
+  const double sum = (frame_groups > 1 ? a : 0.0) + (sector_groups > 1 ? b : 0.0);
+  if (!(sum > 0) || !(den > 0)) return 1.0;
+  const double nu = std::max(sum * sum / den, 1.0);
+  // The 95 % point of F(2, ν): 1 − (1 + 2x/ν)^(−ν/2) = 0.95 ⟹ x = (ν/2)(0.05^(−2/ν) − 1); ν → ∞: −ln 0.05.
+  const double ln05 = std::log(0.05);
+  return (nu / 2.0) * std::expm1(-2.0 / nu * ln05) / -ln05;
+}
+
+void set_calibrated_uncertainty(PoleEstimate& e, const Jackknives& j, double a, double b, double floor_deg,
+                                bool widen) {
   const double floor = floor_deg * kDeg;
-  const Eigen::Matrix2d c = a * a * frames + b * b * sectors + Eigen::Matrix2d::Identity() * floor * floor;
-  e.jackknife_frames_rad2 = frames;
-  e.jackknife_sectors_rad2 = sectors;
-  set_uncertainty(e, c);
+  const Eigen::Matrix2d jack = a * a * j.frames + b * b * j.sectors;
+  const auto lmax = [](const Eigen::Matrix2d& m) {
+    return std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(m).eigenvalues().maxCoeff(), 0.0);
+  };
+  const double w2 = widen ? few_groups_widening2(a * a * lmax(j.frames), j.frame_groups, b * b * lmax(j.sectors),
+                                                 b > 0 ? j.sector_groups : 0)
+                          : 1.0;
+  e.jackknife_frames_rad2 = j.frames;
+  e.jackknife_sectors_rad2 = j.sectors;
+  set_uncertainty(e, w2 * jack + Eigen::Matrix2d::Identity() * floor * floor);
 }
 
 double pixel_angle_deg(const camera::Camera& camera) {

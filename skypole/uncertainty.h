@@ -23,9 +23,19 @@
 // A method whose answer does not survive the loss of a group (of frames or of sky) — it declines,
 // or finds the other pole — is unstable, and the estimate declines with that reason.
 //
+// Few groups. A jackknife's covariance is itself an estimate, from K − 1 degrees of freedom (K = 3
+// frames give 2), and an error measured against it has a heavier tail than against a known σ: the
+// 95 % point of |error|²/(2σ̂²) is that of F(2, ν), 9.55 for ν = 3 and 5.79 for ν = 5, not the 3.00 of
+// a known σ. So the jackknives' part of the covariance is widened by q95(ν)/q95(∞), ν the
+// Welch–Satterthwaite degrees of freedom of a²λ_frames + b²λ_sectors (λ: the larger eigenvalue,
+// ν_frames = K − 1, ν_sectors = 5): the stated cone is then the Student-like 95 % cone of what the
+// jackknives measured. Without it the error-to-σ ratio of sun_vector_ephemeris on 1,100 random scenes
+// had a tail 5–6 times its 95 % point (a few 3-frame windows), so no factor gave both no lie and a
+// coverage of at most 98 % (docs/benchmarks.md, section 7).
+//
 // From covariances to numbers (set_calibrated_uncertainty):
-//     C = a²·C_frames + b²·C_sectors + s²·I,   s² = floor² + (any per-answer terms)²
-// (a, b, s from the calibration, evaluate.h); σ_lat = √C_alt,alt; σ_bearing = √C_az,az / cos(alt)
+//     C = w²·(a²·C_frames + b²·C_sectors) + s²·I,   s² = floor² + (any per-answer terms)²
+// (a, b, s from the calibration, evaluate.h; w² = few_groups_widening²); σ_lat = √C_alt,alt; σ_bearing = √C_az,az / cos(alt)
 // (a tangent step d along the azimuth axis turns the azimuth by d/cos(alt)), capped at 180°;
 // cone95 = √(χ²₂(0.95)·λmax) = 2.448·√λmax, the radius of a circle that holds the 95 % ellipse
 // (conservative where the ellipse is elongated). σ_total = √λmax is the "σ" of the lie rate.
@@ -92,10 +102,29 @@ std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::St
 // √λmax of a covariance (rad²), in degrees: one jackknife's σ on its own.
 double sigma_deg_of(const Eigen::Matrix2d& covariance_rad2);
 
-// Sets `e`'s uncertainty from C = a²·frames + b²·sectors + floor_deg²·I (floor_deg: the root-sum-
-// square of every isotropic term) and keeps the raw covariances in `e` for the calibration study.
-void set_calibrated_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& frames_rad2, double a,
-                                const Eigen::Matrix2d& sectors_rad2, double b, double floor_deg);
+// The number of groups frame_jackknife deals `frames` frames into: min(frames, max_groups).
+int frame_jackknife_groups(int frames, int max_groups = 6);
+
+// q95(ν)/q95(∞) (see "Few groups" above): the squared widening of a covariance A + B, A measured by
+// a jackknife of frame_groups groups and B by one of sector_groups (A, B ≥ 0: the two terms' larger
+// eigenvalues, already scaled by the calibration's a² and b²). A group count of 0 marks a term as
+// absent. 1 when A + B = 0; 6.34 for 3 groups alone, 1.93 for 6.
+double few_groups_widening2(double a, int frame_groups, double b, int sector_groups);
+
+// The jackknives behind one answer: their covariances (rad², tangent plane) and group counts.
+struct Jackknives {
+  Eigen::Matrix2d frames = Eigen::Matrix2d::Zero();
+  int frame_groups = 0;
+  Eigen::Matrix2d sectors = Eigen::Matrix2d::Zero();
+  int sector_groups = 0;  // 0: no sector jackknife
+};
+
+// Sets `e`'s uncertainty from C = w²·(a²·frames + b²·sectors) + floor_deg²·I (w² =
+// few_groups_widening2; floor_deg: the root-sum-square of every isotropic term) and keeps the raw
+// covariances in `e` for the calibration study. widen = false states the jackknives as measured
+// (the calibration study's uncalibrated run, from which scripts/calibration_tune.py recomputes w).
+void set_calibrated_uncertainty(PoleEstimate& e, const Jackknives& j, double a, double b, double floor_deg,
+                                bool widen = true);
 
 // The angle (degrees) between the rays of the principal point and of the pixel to its right: a
 // pixel's angular size at the centre of the image, the scale below which no method working on the

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 #include <numbers>
+#include <random>
 
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
@@ -45,6 +46,45 @@ TEST_CASE("covariance to σ and cone: the formulas worked by hand", "[skypole][u
   CHECK(f.sigma_bearing_deg == Approx(3.0));
   CHECK(f.sigma_latitude_deg == Approx(1.0));
   CHECK(f.cone95_deg == Approx(3 * 2.4477).epsilon(1e-4));
+}
+
+TEST_CASE("few jackknife groups widen the cone to the F(2, ν) quantile", "[skypole][uncertainty][dof]") {
+  // Closed forms: q95(ν) = (ν/2)(0.05^(−2/ν) − 1), q95(∞) = −ln 0.05 = 2.99573.
+  // 3 frames alone: ν = 2, q = 19, widening 19/2.99573.
+  CHECK(skypole::few_groups_widening2(1.0, 3, 0.0, 0) == Approx(19.0 / 2.995732).epsilon(1e-6));
+  // 6 sectors alone: ν = 5, q = 2.5·(0.05^−0.4 − 1) = 5.7861.
+  CHECK(skypole::few_groups_widening2(0.0, 0, 2.0, 6) == Approx(2.5 * (std::pow(0.05, -0.4) - 1) / 2.995732));
+  // Equal parts from 6 and 6 groups: Welch–Satterthwaite ν = (2A)²/(2A²/5) = 10, q = 5·(0.05^−0.2 − 1).
+  CHECK(skypole::few_groups_widening2(0.3, 6, 0.3, 6) == Approx(5.0 * (std::pow(0.05, -0.2) - 1) / 2.995732));
+  // Nothing measured, nothing widened; many groups, nearly nothing.
+  CHECK(skypole::few_groups_widening2(0.0, 6, 0.0, 6) == 1.0);
+  CHECK(skypole::few_groups_widening2(1.0, 10001, 0.0, 0) == Approx(1.0).epsilon(1e-3));
+  CHECK(skypole::frame_jackknife_groups(3) == 3);
+  CHECK(skypole::frame_jackknife_groups(24) == 6);
+
+  // An independent check by simulation: a 2-D error of σ 1 per axis, and a variance estimated
+  // from ν degrees of freedom (σ̂² = χ²_ν/ν, independent of the error). The widened cone,
+  // 2.4477·√(w²·σ̂²), holds the error 95 % of the time; the unwidened one much less.
+  std::mt19937_64 rng(15);
+  std::normal_distribution<double> normal;
+  for (const int groups : {3, 4, 6}) {
+    const int nu = groups - 1;
+    const double w2 = skypole::few_groups_widening2(1.0, groups, 0.0, 0);
+    const int n = 200000;
+    int inside = 0, inside_bare = 0;
+    for (int i = 0; i < n; ++i) {
+      const double ex = normal(rng), ey = normal(rng);
+      double chi2 = 0;
+      for (int k = 0; k < nu; ++k) chi2 += std::pow(normal(rng), 2);
+      const double var_hat = chi2 / nu;
+      const double r2 = ex * ex + ey * ey;
+      inside += r2 <= 5.991465 * w2 * var_hat ? 1 : 0;
+      inside_bare += r2 <= 5.991465 * var_hat ? 1 : 0;
+    }
+    INFO("groups " << groups);
+    CHECK(static_cast<double>(inside) / n == Approx(0.95).margin(0.003));
+    CHECK(static_cast<double>(inside_bare) / n < 0.90);
+  }
 }
 
 TEST_CASE("tangent offsets: a step up in altitude and a step east in azimuth", "[skypole][uncertainty]") {
