@@ -1,0 +1,53 @@
+#!/usr/bin/python3
+"""scripts/calibration_tune.py and the C++ state the same answers with the same sigmas.
+
+The calibration is tuned in Python on uncalibrated runs (the raw jackknives per answer) and used in
+C++ (skypole/evaluate.cpp, method_calibrations()); docs/figures/benchmarks/calibration-committed.json
+is that calibration as the script reads it. This runs the same small random scenes twice -- once
+calibrated, once uncalibrated -- and checks that the script, applying the JSON to the uncalibrated
+answers at the study's bound, declines the same answers and states the same sigma as the C++ did.
+So the JSON, method_calibrations() and the two implementations of the sigma model (the widening
+for few jackknife groups, floors, gates) cannot drift apart unnoticed.
+
+    calibration_script_check.py SKYPOL SOURCE_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+skypol, source = sys.argv[1], sys.argv[2]
+sys.path.insert(0, os.path.join(source, "scripts"))
+import calibration_tune as ct  # noqa: E402
+
+BOUND = 2.5  # the study's default --max-uncertainty (studies/tradeoff_studies.h)
+with tempfile.TemporaryDirectory() as tmp:
+    env = dict(os.environ, SKYPOL_CACHE_DIR=os.path.join(tmp, "tables"))
+    common = ["tradeoff", "calibration", "--small", "--count", "16", "--seed", "7"]
+    subprocess.run([skypol, *common, "--out", os.path.join(tmp, "cal")], check=True, env=env)
+    subprocess.run([skypol, *common, "--uncalibrated", "--max-uncertainty", "inf", "--out", os.path.join(tmp, "unc")],
+                   check=True, env=env)
+    cal = json.load(open(os.path.join(source, "docs/figures/benchmarks/calibration-committed.json")))
+    by = ct.load([os.path.join(tmp, "unc", "calibration.csv")])
+    import csv
+    cpp = {(r["method"], int(r["stack"])): r for r in csv.DictReader(open(os.path.join(tmp, "cal", "calibration.csv")))}
+
+compared = valid = mismatches = 0
+for m, d in by.items():
+    ok, sigma = ct.apply(d, cal[m], BOUND)
+    for i, k in enumerate(d["stack"]):
+        r = cpp[(m, int(k))]
+        c_valid = r["valid"] == "1"
+        compared += 1
+        valid += c_valid
+        same = c_valid == bool(ok[i])
+        if same and c_valid:
+            same = abs(float(r["sigma_deg"]) - sigma[i]) <= 1e-4 * sigma[i] + 1e-9
+        if not same:
+            mismatches += 1
+            print(f"{m} stack {k}: C++ valid {c_valid} sigma {r['sigma_deg']} ({r['why_invalid'][:90]}); "
+                  f"script valid {bool(ok[i])} sigma {sigma[i]:.6g}")
+print(f"{compared} answers compared, {valid} valid in C++, {mismatches} mismatches")
+# A check that compares nothing proves nothing: the small run must hold valid answers.
+sys.exit(1 if mismatches or valid < 5 else 0)
