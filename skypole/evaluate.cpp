@@ -89,6 +89,10 @@ PoleEstimate run_bare(const stack::Stack& stack, std::string_view method, const 
                               "\" (expected one of " + legal + ")");
 }
 
+// The sector jackknife's sectors (uncertainty.h): six, each a sixth of the image about the
+// principal point.
+constexpr int kSkySectors = 6;
+
 // √(χ²₂(0.999) / χ²₂(0.95)) = √(13.8155 / 5.99146).
 constexpr double kAgreeScale = 1.5185;
 
@@ -108,7 +112,8 @@ const std::vector<std::string>& auto_rank() {
 }
 
 bool has_sector_jackknife(std::string_view method) {
-  return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp";
+  return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp" ||
+         method == "great_circle";
 }
 
 bool used_by_auto(std::string_view method, bool site_known) {
@@ -340,6 +345,7 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   cl_params.keep_intermediates = classic_images != nullptr;
   PoleEstimate e;
   if (method == "great_circle") {
+    gc_params.sectors = kSkySectors;  // its sector jackknife refits the kept crossings
     gc = great_circle_pairs(stack, gc_params);
     e = great_circle_pole(*gc, gc_params).estimate;
   } else if (method == "classic") {
@@ -378,13 +384,15 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   if (has_sector_jackknife(method)) {
     // Sectors about the principal point, so that each holds a sixth of the sky.
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
-    constexpr int kSectors = 6;
-    const auto s = sector_jackknife(
-        e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); }, Eigen::Vector2d(k.cx, k.cy),
-        kSectors);
+    const auto s =
+        gc ? sector_jackknife(e, gc->sectors,
+                              [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; })
+           : sector_jackknife(
+                 e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
+                 Eigen::Vector2d(k.cx, k.cy), kSkySectors);
     if (!s) return e;
     jack.sectors = *s;
-    jack.sector_groups = kSectors;
+    jack.sector_groups = kSkySectors;
   }
   if (input.calibrated) {
     // The residual term counts only the part of the residual beyond what the pixel grid itself

@@ -80,9 +80,10 @@ struct MethodCalibration {
   double unpolarized_deg = 0.0;
 };
 // Whether `method` runs the sector jackknife (uncertainty.h): the methods that fit the whole sky
-// per frame (sun_vector, sun_vector_ephemeris, sun_dolp). invariance reads the sky around its pole,
-// where a masked wedge trips its edge checks (it declined clear noise-free days); great_circle's
-// would refit its pairs' circles six more times (nearly all its cost); classic stays the paper's.
+// per frame (sun_vector, sun_vector_ephemeris, sun_dolp), and great_circle, which refits its
+// pairs' cached zero crossings outside each sector rather than rerunning (great_circle.h).
+// invariance reads the sky around its pole, where a masked wedge trips its edge checks (it declined
+// clear noise-free days); classic stays the paper's.
 bool has_sector_jackknife(std::string_view method);
 const std::vector<MethodCalibration>& method_calibrations();
 

@@ -14,6 +14,7 @@
 
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
+#include "skypole/uncertainty.h"
 
 namespace skypol::skypole {
 namespace {
@@ -23,10 +24,7 @@ constexpr double kDeg = kPi / 180.0;
 // The sun's hour angle advances 360° per solar day.
 constexpr double kHourAngleRate = 2 * kPi / 86400.0;
 
-struct Crossing {
-  Eigen::Vector3d p;
-  double w;  // |f| step across the crossing: the local contrast
-};
+using Crossing = CircleCrossing;
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -40,25 +38,28 @@ double tukey(double r, double c) {
   return std::abs(u) >= 1 ? 0.0 : (1 - u * u) * (1 - u * u);
 }
 
-// Sub-pixel zero crossings of f = a − b between 4-neighbouring valid pixels.
+// Sub-pixel zero crossings of f = a − b between 4-neighbouring valid pixels, each with its two
+// pixels' sky sectors (`sector`: one per pixel, or empty: all 0).
 std::vector<Crossing> zero_crossings(const std::vector<float>& a, const std::vector<float>& b,
-                                     const SkyImages& sky) {
+                                     const SkyImages& sky, const std::vector<std::uint8_t>& sector) {
   std::vector<Crossing> out;
   const std::size_t W = static_cast<std::size_t>(sky.width);
   const auto f = [&](std::size_t i) { return static_cast<double>(a[i]) - static_cast<double>(b[i]); };
-  const auto add = [&](double x, double y, double fi, double fj, bool horizontal) {
+  const auto add = [&](double x, double y, double fi, double fj, bool horizontal, std::size_t i, std::size_t j) {
     if ((fi > 0) == (fj > 0) || fi == fj) return;
     const double t = fi / (fi - fj);
     const Eigen::Vector2d px = horizontal ? Eigen::Vector2d(x + t, y) : Eigen::Vector2d(x, y + t);
-    if (const auto r = sky.lens->ray(px)) out.push_back({r->normalized(), std::abs(fi - fj)});
+    if (const auto r = sky.lens->ray(px))
+      out.push_back({r->normalized(), sector.empty() ? std::uint8_t{0} : sector[i],
+                     sector.empty() ? std::uint8_t{0} : sector[j]});
   };
   for (int y = 0; y < sky.height; ++y)
     for (int x = 0; x < sky.width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * W + static_cast<std::size_t>(x);
       if (!sky.valid[i]) continue;
       const double fi = f(i);
-      if (x + 1 < sky.width && sky.valid[i + 1]) add(x, y, fi, f(i + 1), true);
-      if (y + 1 < sky.height && sky.valid[i + W]) add(x, y, fi, f(i + W), false);
+      if (x + 1 < sky.width && sky.valid[i + 1]) add(x, y, fi, f(i + 1), true, i, i + 1);
+      if (y + 1 < sky.height && sky.valid[i + W]) add(x, y, fi, f(i + W), false, i, i + W);
     }
   return out;
 }
@@ -257,6 +258,30 @@ Hypothesis classify(const Eigen::Vector3d& n1, const Eigen::Vector3d& n2,
   return hyp;
 }
 
+// Steps 2 and 3b into `cp`, whose radial_normal and plane_normal hold step 3's oriented normals
+// and sun_separation_deg its separation: the plane pair's counts, then the radial circle refitted
+// away from the sun and the antisun, and whether the pair is used.
+void set_circles(CirclePair& cp, const std::vector<Crossing>& pts, const PlaneFit& radial, const PlaneFit& plane,
+                 const GreatCircleParams& params) {
+  cp.radial_points = radial.inliers;
+  cp.plane_points = plane.inliers;
+  cp.radial_rms_deg = radial.rms / kDeg;
+  // The largest exclusion (the given one, then 2/3 and 1/3 of it) that leaves enough of the
+  // circle; a view of little but the sun's side of the sky (the pole outside the field of view)
+  // keeps the fit on every crossing.
+  for (const double share : {1.0, 2.0 / 3.0, 1.0 / 3.0}) {
+    if (!(params.sun_exclusion_deg > 0)) break;
+    const auto away = refit_away_from_sun(pts, radial.n, plane.n, cp.plane_normal,
+                                          share * params.sun_exclusion_deg * kDeg, params.min_points);
+    if (!away) continue;
+    cp.radial_normal = away->n.dot(cp.radial_normal) < 0 ? Eigen::Vector3d(-away->n) : away->n;
+    cp.radial_points = away->inliers;
+    cp.radial_rms_deg = away->rms / kDeg;
+    break;
+  }
+  cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
+}
+
 struct PoleFit {
   Eigen::Vector3d p = Eigen::Vector3d::UnitZ();
   double kappa = 0;
@@ -351,15 +376,30 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
   std::vector<Eigen::Vector3d> sample_dirs;
   for (std::size_t i : samples) sample_dirs.push_back(to_double(sky.ray_camera[i]));
 
+  // Each pixel's sky sector, when the crossings are kept for the sector jackknife.
+  std::vector<std::uint8_t> sector;
+  if (params.sectors > 0) {
+    if (params.sectors > 255)
+      throw std::invalid_argument("great_circle: at most 255 sky sectors, got " + std::to_string(params.sectors));
+    const camera::Intrinsics& k = sky.lens->intrinsics();
+    sector.resize(sky.pixels());
+    for (int y = 0; y < sky.height; ++y)
+      for (int x = 0; x < sky.width; ++x)
+        sector[static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) + static_cast<std::size_t>(x)] =
+            static_cast<std::uint8_t>(sector_of(x, y, Eigen::Vector2d(k.cx, k.cy), params.sectors));
+  }
+
   std::vector<CirclePair>& circles = out.circles;
   const auto pairs = make_pairs(static_cast<int>(sky.frames()), params.pairs, params.interval);
   circles.resize(pairs.size());
+  out.sectors = std::max(params.sectors, 0);
+  if (out.sectors > 0) out.crossings.resize(pairs.size());
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const auto [i, j] = pairs[k];
     CirclePair& cp = circles[k];
     const auto& fi = filtered[static_cast<std::size_t>(i)];
     const auto& fj = filtered[static_cast<std::size_t>(j)];
-    const std::vector<Crossing> pts = zero_crossings(fi, fj, sky);
+    std::vector<Crossing> pts = zero_crossings(fi, fj, sky, sector);
     cp.i = i;
     cp.j = j;
     if (static_cast<int>(pts.size()) < 2 * params.min_points) {
@@ -383,25 +423,10 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
     const PlaneFit& plane = &radial == &(*planes)[0] ? (*planes)[1] : (*planes)[0];
     cp.radial_normal = hyp.radial_normal;
     cp.plane_normal = hyp.plane_normal;
-    cp.radial_points = radial.inliers;
-    cp.plane_points = plane.inliers;
-    cp.radial_rms_deg = radial.rms / kDeg;
-    // The largest exclusion (the given one, then 2/3 and 1/3 of it) that leaves enough of the
-    // circle; a view of little but the sun's side of the sky (the pole outside the field of view)
-    // keeps the fit on every crossing.
-    for (const double share : {1.0, 2.0 / 3.0, 1.0 / 3.0}) {
-      if (!(params.sun_exclusion_deg > 0)) break;
-      const auto away = refit_away_from_sun(pts, radial.n, plane.n, hyp.plane_normal,
-                                            share * params.sun_exclusion_deg * kDeg, params.min_points);
-      if (!away) continue;
-      cp.radial_normal = away->n.dot(hyp.radial_normal) < 0 ? Eigen::Vector3d(-away->n) : away->n;
-      cp.radial_points = away->inliers;
-      cp.radial_rms_deg = away->rms / kDeg;
-      break;
-    }
     cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
     cp.hypothesis_ratio = hyp.ratio;
-    cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
+    set_circles(cp, pts, radial, plane, params);
+    if (out.sectors > 0) out.crossings[k] = std::move(pts);
   });
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return out;
@@ -411,20 +436,17 @@ GreatCircleResult estimate_great_circle(const stack::Stack& stack, const GreatCi
   return great_circle_pole(great_circle_pairs(stack, params), params);
 }
 
-GreatCircleResult great_circle_pole(const GreatCirclePairs& pairs, const GreatCircleParams& params,
-                                    const std::vector<std::uint8_t>* keep_frame) {
+namespace {
+
+// Steps 4–5 on `circles` (those with `used` set); `seconds_before` is what the circles took.
+GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair> circles, double seconds_before,
+                                    const GreatCircleParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "great_circle";
-  const SkyImages& sky = pairs.sky;
-  std::vector<CirclePair> circles = pairs.circles;
-  if (keep_frame && !keep_frame->empty())
-    for (CirclePair& c : circles)
-      if (!(*keep_frame)[static_cast<std::size_t>(c.i)] || !(*keep_frame)[static_cast<std::size_t>(c.j)])
-        c.used = false;
   GreatCircleResult result;
 
   const auto seconds = [&] {
-    return pairs.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return seconds_before + std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   };
   const auto fail = [&](std::string why) {
     result.estimate = invalid_estimate(method, std::move(why));
@@ -521,6 +543,57 @@ GreatCircleResult great_circle_pole(const GreatCirclePairs& pairs, const GreatCi
   result.estimate.seconds = seconds();
   if (params.keep_circles) result.circles = circles;
   return result;
+}
+
+}  // namespace
+
+GreatCircleResult great_circle_pole(const GreatCirclePairs& pairs, const GreatCircleParams& params,
+                                    const std::vector<std::uint8_t>* keep_frame) {
+  std::vector<CirclePair> circles = pairs.circles;
+  if (keep_frame && !keep_frame->empty())
+    for (CirclePair& c : circles)
+      if (!(*keep_frame)[static_cast<std::size_t>(c.i)] || !(*keep_frame)[static_cast<std::size_t>(c.j)])
+        c.used = false;
+  return pole_from_circles(pairs.sky, std::move(circles), pairs.seconds, params);
+}
+
+GreatCircleResult great_circle_pole_without_sector(const GreatCirclePairs& pairs, const GreatCircleParams& params,
+                                                   int g) {
+  if (pairs.sectors <= 0 || pairs.crossings.size() != pairs.circles.size())
+    throw std::invalid_argument("great_circle: the pairs' zero crossings were not kept (GreatCircleParams::sectors "
+                                "= 0), so no sky sector can be left out");
+  if (g < 0 || g >= pairs.sectors)
+    throw std::invalid_argument("great_circle: sky sector " + std::to_string(g) + " is not one of 0.." +
+                                std::to_string(pairs.sectors - 1));
+  const auto t_start = std::chrono::steady_clock::now();
+  std::vector<CirclePair> circles = pairs.circles;
+  tbb::parallel_for(std::size_t{0}, circles.size(), [&](std::size_t k) {
+    const std::vector<Crossing>& all = pairs.crossings[k];
+    std::vector<Crossing> pts;
+    pts.reserve(all.size());
+    for (const Crossing& c : all)
+      if (c.sector_a != g && c.sector_b != g) pts.push_back(c);
+    // No crossing in the sector: the masked stack gives this pair the same crossings, so the same
+    // circles. A pair without circles on the whole sky (too few crossings, no plane pair) has no
+    // step-3 decision to keep and stays unused.
+    if (pts.size() == all.size() || all.empty()) return;
+    CirclePair& cp = circles[k];
+    cp.used = false;
+    if (static_cast<int>(pts.size()) < 2 * params.min_points) return;
+    const auto planes = fit_plane_pair(pts);
+    if (!planes) return;
+    // Step 3's decision, kept: the radial circle is the plane nearer the whole sky's radial one,
+    // both normals turned as step 3 turned them.
+    const Eigen::Vector3d old_radial = cp.radial_normal, old_plane = cp.plane_normal;
+    const bool first = std::abs((*planes)[0].n.dot(old_radial)) >= std::abs((*planes)[1].n.dot(old_radial));
+    const PlaneFit& radial = first ? (*planes)[0] : (*planes)[1];
+    const PlaneFit& plane = first ? (*planes)[1] : (*planes)[0];
+    cp.radial_normal = radial.n.dot(old_radial) < 0 ? Eigen::Vector3d(-radial.n) : radial.n;
+    cp.plane_normal = plane.n.dot(old_plane) < 0 ? Eigen::Vector3d(-plane.n) : plane.n;
+    set_circles(cp, pts, radial, plane, params);
+  });
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return pole_from_circles(pairs.sky, std::move(circles), seconds, params);
 }
 
 }  // namespace skypol::skypole

@@ -163,9 +163,13 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int n,
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
                                                 const std::function<PoleEstimate(const stack::Stack&)>& method,
                                                 const Eigen::Vector2d& centre_px, int sectors) {
-  return group_jackknife(
-      e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); }, "sky sector",
-      "the answer rests on one part of the sky (cloud, a neutral point, saturation)");
+  return sector_jackknife(e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); });
+}
+
+std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
+                                                const std::function<PoleEstimate(int g)>& without_sector) {
+  return group_jackknife(e, sectors, without_sector, "sky sector",
+                         "the answer rests on one part of the sky (cloud, a neutral point, saturation)");
 }
 
 double sigma_deg_of(const Eigen::Matrix2d& c) {

@@ -16,6 +16,7 @@
 // every frame group carries it alike. So the usable sky pixels are dealt into K = 6 azimuth
 // sectors about the principal point and the method runs again with one sector masked in every
 // frame (sun_vector, sun_vector_ephemeris, sun_dolp: the methods that fit the whole sky per frame;
+// great_circle refits its cached zero crossings outside the sector instead of rerunning;
 // invariance reads the sky around its pole, and a masked wedge there trips its edge checks);
 // the same formula gives a second covariance. An error that lives in one part of the sky moves
 // the answer without that part; one spread evenly over the sky still does not show.
@@ -98,6 +99,10 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int frames,
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
                                                 const std::function<PoleEstimate(const stack::Stack&)>& method,
                                                 const Eigen::Vector2d& centre_px, int sectors = 6);
+// The same from a method's own answer without sector g (great_circle refits its cached zero
+// crossings outside the sector: great_circle.h).
+std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
+                                                const std::function<PoleEstimate(int g)>& without_sector);
 
 // √λmax of a covariance (rad²), in degrees: one jackknife's σ on its own.
 double sigma_deg_of(const Eigen::Matrix2d& covariance_rad2);

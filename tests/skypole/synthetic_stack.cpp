@@ -117,4 +117,21 @@ stack::Stack make_stack(const SyntheticSpec& spec) {
   return stack;
 }
 
+void veil_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius_deg, const VeilPaint& paint,
+               const std::string& band) {
+  const double cos_r = std::cos(radius_deg * kDeg);
+  for (std::size_t f = 0; f < stack.frames.size(); ++f) {
+    stack::Frame& frame = stack.frames[f];
+    std::vector<float>& dolp = frame.channels.at("DoLP." + band);
+    std::vector<float>& aolp = frame.channels.at("AoLP." + band);
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x) {
+        const auto ray = stack.camera->lens().ray(Eigen::Vector2d(x, y));
+        if (!ray || ray->normalized().dot(centre) < cos_r) continue;
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(frame.width) + static_cast<std::size_t>(x);
+        paint(f, ray->normalized(), dolp[i], aolp[i]);
+      }
+  }
+}
+
 }  // namespace skypol::testing

@@ -4,8 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "stack/frame.h"
 #include "sky/time.h"
@@ -41,5 +44,12 @@ std::vector<sky::Instant> paper_times();
 SyntheticSpec paper_day(int size, double heading_deg, double noise = 0);
 
 stack::Stack make_stack(const SyntheticSpec& spec);
+
+// What no clear sky shows, confined to one part of the sky in every frame: inside the disc of
+// `radius_deg` about the camera direction `centre` (unit), `paint(frame, ray, dolp, aolp)` rewrites
+// each pixel's DoLP and AoLP (radians) of `band`; `ray` is the pixel's unit direction, camera frame.
+using VeilPaint = std::function<void(std::size_t frame, const Eigen::Vector3d& ray, float& dolp, float& aolp)>;
+void veil_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius_deg, const VeilPaint& paint,
+               const std::string& band = "Y");
 
 }  // namespace skypol::testing
