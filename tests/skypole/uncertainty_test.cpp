@@ -307,20 +307,12 @@ TEST_CASE("the sector jackknife sees a bias that stays in one part of the sky; t
   testing::SyntheticSpec spec = testing::paper_day(96, 30, 0.01);
   const stack::Stack clear = testing::make_stack(spec);
   stack::Stack veiled = clear;
-  {
-    const skypole::SkyImages sky = skypole::prepare_sky_images(veiled, {}, 1, "test");
-    const double a = 30 * kDeg, z = 60 * kDeg;  // image angle 30° (x right, y down), 60° off axis
-    const Eigen::Vector3d centre(std::cos(a) * std::sin(z), std::sin(a) * std::sin(z), std::cos(z));
-    for (stack::Frame& f : veiled.frames) {
-      std::vector<float>& dolp = f.channels.at("DoLP.Y");
-      std::vector<float>& aolp = f.channels.at("AoLP.Y");
-      for (std::size_t i = 0; i < sky.pixels(); ++i) {
-        if (!sky.valid[i] || sky.ray_camera[i].cast<double>().dot(centre) < std::cos(25 * kDeg)) continue;
-        dolp[i] *= 0.1f;
-        aolp[i] = static_cast<float>(std::remainder(static_cast<double>(aolp[i]) + 40 * kDeg, std::numbers::pi));
-      }
-    }
-  }
+  const double a = 30 * kDeg, z = 60 * kDeg;  // image angle 30° (x right, y down), 60° off axis
+  const Eigen::Vector3d centre(std::cos(a) * std::sin(z), std::sin(a) * std::sin(z), std::cos(z));
+  testing::veil_disc(veiled, centre, 25, [](std::size_t, const Eigen::Vector3d&, float& dolp, float& aolp) {
+    dolp *= 0.1f;
+    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * kDeg, std::numbers::pi));
+  });
   skypole::InputOptions bare;
   bare.calibrated = false;
   bare.sky_mask = false;
