@@ -501,7 +501,9 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
   }
   if (kept < 2) return fail("the circles of equal DoLP do not agree on a common point");
 
-  // Which end is north: (n_r × n_p)·NCP < 0 for every pair.
+  // Which end is north: (n_r × n_p)·NCP < 0 for every pair less than half a day of hour angle
+  // apart. n_r × n_p ∝ s_i × s_j ∝ −sin Δω·NCP: a pair further apart (the midnight sun of a polar
+  // day) sees the sun turned the short way round, the other sense, so its vote counts reversed.
   Eigen::Vector3d axis = fit.p;
   if ((sky.level_from_camera * axis).z() < 0) axis = -axis;  // the end above the horizon
   Eigen::Vector3d ncp;
@@ -510,7 +512,10 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
   for (std::size_t k = 0; k < normals.size(); ++k) {
     if (fit.weight[k] <= 0) continue;
     const CirclePair& c = circles[index[k]];
-    const double v = c.radial_normal.cross(c.plane_normal).dot(axis);
+    const double step = sky.times_known ? kHourAngleRate * (sky.times_s[static_cast<std::size_t>(c.j)] -
+                                                            sky.times_s[static_cast<std::size_t>(c.i)])
+                                        : 0.0;
+    const double v = c.radial_normal.cross(c.plane_normal).dot(axis) * (std::sin(step) < 0 ? -1.0 : 1.0);
     vote += fit.weight[k] * v;
     total += fit.weight[k] * std::abs(v);
   }

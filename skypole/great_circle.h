@@ -28,7 +28,8 @@
 //     pair's hour-angle step from the frame times (or from the fitted sun separation). With
 //     DriftModel::none κ = 0 (p = smallest eigenvector of Σ w n nᵀ).
 //  5. North: the sky turns about −NCP, and s_i × s_j ∝ n_r × n_p, so (n_r × n_p)·NCP < 0 (a vote
-//     over pairs); the hint overrides it.
+//     over pairs; a pair more than 12 h of hour angle apart, under a midnight sun, votes reversed:
+//     from s_i to s_j the sun turned the short way round); the hint overrides it.
 // The pole need not be in the field of view: the circles are fitted where they are seen.
 // residual_deg: weighted RMS angular distance of the pole from the radial circles (after the
 // drift term). Uncertainty: skypole/uncertainty.h.

@@ -126,6 +126,28 @@ TEST_CASE("great circles: a hint loses to decisive evidence, and too little inpu
   CHECK_THROWS_WITH(skypole::estimate_great_circle(two), Catch::Contains("at least 3 frames"));
 }
 
+TEST_CASE("great circles tell north under the midnight sun, where pairs more than 12 h apart see the sun turn back",
+          "[skypole][great_circle]") {
+  // Longyearbyen at the solstice, frames at 00:00, 13:00 and 14:00 UTC: the sun is up all day, and
+  // two of the three pairs are 195° and 210° of hour angle apart, so going from the first frame to
+  // the others the sun turned the short way round, against the sky's rotation (s_i × s_j ∝
+  // −sin Δω·NCP). Counted as they come, those two would outvote the third; counted reversed, all
+  // three say north.
+  testing::SyntheticSpec spec;
+  spec.latitude_deg = 78.2232;
+  spec.longitude_deg = 15.6267;
+  spec.times = {sky::parse_iso8601("2022-06-21T00:00:00Z"), sky::parse_iso8601("2022-06-21T13:00:00Z"),
+                sky::parse_iso8601("2022-06-21T14:00:00Z")};
+  spec.size = 128;
+  spec.heading_deg = 40;
+  spec.max_dolp = 0.7;
+  const stack::Stack stack = testing::make_stack(spec);
+  skypole::GreatCircleResult r;
+  const skypole::Score s = run(stack, {}, "midnight sun, 195° and 210° pairs", &r);
+  CHECK(r.estimate.is_north);
+  CHECK(r.estimate.note.find("hemisphere from sun rotation") != std::string::npos);
+  CHECK(s.angular_error_deg < 0.1);
+}
 
 // Regression (interval pairing off by one): each circle pair is (i, i + interval), and the sun
 // separation fitted from its difference image is the true angle between those frames' suns.
