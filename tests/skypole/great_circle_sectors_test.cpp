@@ -14,6 +14,7 @@
 #include "skypole/evaluate.h"
 #include "skypole/great_circle.h"
 #include "skypole/uncertainty.h"
+#include "jackknife_reading.h"
 #include "synthetic_stack.h"
 
 using namespace skypol;
@@ -114,12 +115,8 @@ TEST_CASE("great_circle's sector jackknife sees a wrong sky in one sector that t
   INFO(c.why_invalid << " / " << v.why_invalid);
   REQUIRE(c.valid);
   REQUIRE(v.valid);
-  const double err_c = skypole::score(c, clear.frames.front().truth).angular_error_deg;
-  const double err_v = skypole::score(v, veiled.frames.front().truth).angular_error_deg;
-  const double frames_c = skypole::sigma_deg_of(c.jackknife_frames_rad2);
-  const double frames_v = skypole::sigma_deg_of(v.jackknife_frames_rad2);
-  const double sectors_c = skypole::sigma_deg_of(c.jackknife_sectors_rad2);
-  const double sectors_v = skypole::sigma_deg_of(v.jackknife_sectors_rad2);
+  const auto [err_c, frames_c, sectors_c] = testing::jackknife_reading(c, clear);
+  const auto [err_v, frames_v, sectors_v] = testing::jackknife_reading(v, veiled);
   std::cout << "great_circle sector jackknife: clear error " << err_c << "°, σ frames " << frames_c << "°, σ sectors "
             << sectors_c << "°; veiled error " << err_v << "°, σ frames " << frames_v << "°, σ sectors " << sectors_v
             << "°\n";

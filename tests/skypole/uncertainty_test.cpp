@@ -10,6 +10,7 @@
 
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
+#include "jackknife_reading.h"
 #include "synthetic_stack.h"
 
 using namespace skypol;
@@ -320,12 +321,8 @@ TEST_CASE("the sector jackknife sees a bias that stays in one part of the sky; t
   const skypole::PoleEstimate v = skypole::run_method(veiled, "sun_vector", bare);
   REQUIRE(c.valid);
   REQUIRE(v.valid);
-  const double err_c = skypole::score(c, clear.frames.front().truth).angular_error_deg;
-  const double err_v = skypole::score(v, veiled.frames.front().truth).angular_error_deg;
-  const double frames_c = skypole::sigma_deg_of(c.jackknife_frames_rad2);
-  const double frames_v = skypole::sigma_deg_of(v.jackknife_frames_rad2);
-  const double sectors_c = skypole::sigma_deg_of(c.jackknife_sectors_rad2);
-  const double sectors_v = skypole::sigma_deg_of(v.jackknife_sectors_rad2);
+  const auto [err_c, frames_c, sectors_c] = testing::jackknife_reading(c, clear);
+  const auto [err_v, frames_v, sectors_v] = testing::jackknife_reading(v, veiled);
   std::cout << "sector jackknife: clear error " << err_c << "°, σ frames " << frames_c << "°, σ sectors " << sectors_c
             << "°; veiled error " << err_v << "°, σ frames " << frames_v << "°, σ sectors " << sectors_v << "°\n";
   // The veil moves the answer well beyond the clear day's error (0.03° on this stack) ...
