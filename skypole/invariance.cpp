@@ -203,7 +203,8 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   if (!sp.ok) return fail(sp.why);
 
   // Which end: the minimum is above the horizon; the sun's rotation says if it is the NCP.
-  HemisphereDecision hemi = decide_hemisphere(suns, sp.d, params.input.hemisphere);
+  HemisphereDecision hemi = decide_hemisphere(suns, sp.d, params.input.hemisphere,
+                                              sky.times_known ? sky.times_s : std::vector<double>{});
   if (!hemi.ok && sp.sense != 0 && sp.sense_contrast >= kMinSenseContrast) {
     // The sun alone could not tell (too few suns in view, or too little motion between them):
     // the co-rotating fit saw the whole pattern turn, clockwise about the NCP.

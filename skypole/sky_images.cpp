@@ -290,13 +290,17 @@ struct RotationVote {
 };
 
 RotationVote rotation_vote(const std::vector<std::optional<Eigen::Vector3d>>& suns,
-                           const Eigen::Vector3d& axis_camera) {
+                           const Eigen::Vector3d& axis_camera, const std::vector<double>& times_s) {
+  constexpr double kHourAngleRate = 2 * std::numbers::pi / 86400.0;  // rad/s
+  const bool timed = times_s.size() == suns.size();
   RotationVote v;
   for (std::size_t i = 0; i < suns.size(); ++i)
     for (std::size_t j = i + 1; j < suns.size(); ++j) {
       if (!suns[i] || !suns[j]) continue;
       const Eigen::Vector3d c = suns[i]->cross(*suns[j]);
-      v.vote += c.dot(axis_camera);
+      // More than 12 h of hour angle apart, the short way round is the other sense.
+      const bool reversed = timed && std::sin(kHourAngleRate * (times_s[j] - times_s[i])) < 0;
+      v.vote += reversed ? -c.dot(axis_camera) : c.dot(axis_camera);
       v.total += c.norm();
       ++v.used;
     }
@@ -312,9 +316,10 @@ std::string hint_against_data(bool hint_north, bool data_north) {
 }  // namespace
 
 HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
-                                     const Eigen::Vector3d& axis_camera, Hemisphere hint) {
+                                     const Eigen::Vector3d& axis_camera, Hemisphere hint,
+                                     const std::vector<double>& times_s) {
   HemisphereDecision d;
-  const RotationVote v = rotation_vote(suns, axis_camera);
+  const RotationVote v = rotation_vote(suns, axis_camera, times_s);
   const bool seen = v.used > 0 && v.total >= std::sin(0.5 * kDeg);
   if (hint != Hemisphere::automatic) {
     // The axis is the end above the horizon (see the header): the NCP for a northern observer.

@@ -82,8 +82,12 @@ struct HemisphereDecision {
 // From the sun's rotation: Σ (s_i × s_j)·axis < 0 over all pairs of frames i < j with a sun means
 // NCP. A north/south hint decides when the rotation cannot; when the rotation contradicts the hint
 // decisively, the data win and `source` says so (skypole/README.md, "North or south").
+// times_s (seconds, one per sun; empty: unknown): s_i × s_j ∝ −sin Δω·NCP, so a pair more than
+// 12 h of hour angle apart (a midnight sun) sees the sun turned the short way round and its vote
+// counts reversed (as great_circle's, great_circle.h step 5).
 HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
-                                     const Eigen::Vector3d& axis_camera, Hemisphere hint);
+                                     const Eigen::Vector3d& axis_camera, Hemisphere hint,
+                                     const std::vector<double>& times_s = {});
 
 // A valid PoleEstimate for the NCP direction `ncp_camera` (unit, camera frame): fills the pole
 // above the horizon, α_rel, altitude, latitude, heading (or why it is undefined) and the pixel.

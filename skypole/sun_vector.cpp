@@ -261,7 +261,8 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   if (!(es.eigenvalues()(1) > 1e-14))
     return fail("the suns do not span an arc: they are too few or too close together");
   if ((sky.level_from_camera * p).z() < 0) p = -p;
-  const HemisphereDecision hemi = decide_hemisphere(suns, p, params.input.hemisphere);
+  const HemisphereDecision hemi = decide_hemisphere(suns, p, params.input.hemisphere,
+                                                    sky.times_known ? sky.times_s : std::vector<double>{});
   if (!hemi.ok) return fail(hemi.why);
   result.estimate = make_estimate(method, sky, hemi.is_north ? p : Eigen::Vector3d(-p), params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +

@@ -214,4 +214,22 @@ TEST_CASE("decide_hemisphere: the data win over a contradicting hint only when d
   const skypole::HemisphereDecision still = skypole::decide_hemisphere(suns_every(0.001), axis, skypole::Hemisphere::south);
   CHECK_FALSE(still.is_north);
   CHECK(still.source == "hint");
+
+  // A midnight sun: frames at 0, 13 and 14 h (hour angles 0°, 195°, 210°). Two of the three pairs
+  // are more than 12 h apart and see the sun turned the short way round (s_i × s_j ∝ −sin Δω·NCP):
+  // counted as they come they outvote the third and say south, decisively; with the frame times
+  // they count reversed and all three say north.
+  const double dec = 10 * kDeg;
+  std::vector<std::optional<Eigen::Vector3d>> midnight;
+  for (const double w_deg : {0.0, 195.0, 210.0}) {
+    const double w = w_deg * kDeg;
+    midnight.emplace_back(Eigen::Vector3d(-std::cos(dec) * std::sin(w), -std::cos(dec) * std::cos(w), std::sin(dec)));
+  }
+  const skypole::HemisphereDecision untimed = skypole::decide_hemisphere(midnight, axis, skypole::Hemisphere::automatic);
+  REQUIRE(untimed.ok);
+  CHECK_FALSE(untimed.is_north);
+  const skypole::HemisphereDecision timed =
+      skypole::decide_hemisphere(midnight, axis, skypole::Hemisphere::automatic, {0.0, 13 * 3600.0, 14 * 3600.0});
+  REQUIRE(timed.ok);
+  CHECK(timed.is_north);
 }
