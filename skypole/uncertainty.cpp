@@ -179,12 +179,12 @@ double sigma_deg_of(const Eigen::Matrix2d& c) {
 
 int frame_jackknife_groups(int frames, int max_groups) { return std::min(frames, std::max(max_groups, 2)); }
 
-double few_groups_widening2(double a, int frame_groups, double b, int sector_groups) {
-  // Welch–Satterthwaite: ν = (A + B)² / (A²/ν_A + B²/ν_B).
+double few_groups_widening2(double frames_var, int frame_groups, double sectors_var, int sector_groups) {
+  // Welch–Satterthwaite: ν = (A + B)² / (A²/ν_A + B²/ν_B), A = frames_var, B = sectors_var.
   double den = 0;
-  if (frame_groups > 1) den += a * a / (frame_groups - 1);
-  if (sector_groups > 1) den += b * b / (sector_groups - 1);
-  const double sum = (frame_groups > 1 ? a : 0.0) + (sector_groups > 1 ? b : 0.0);
+  if (frame_groups > 1) den += frames_var * frames_var / (frame_groups - 1);
+  if (sector_groups > 1) den += sectors_var * sectors_var / (sector_groups - 1);
+  const double sum = (frame_groups > 1 ? frames_var : 0.0) + (sector_groups > 1 ? sectors_var : 0.0);
   if (!(sum > 0) || !(den > 0)) return 1.0;
   const double nu = std::max(sum * sum / den, 1.0);
   // The 95 % point of F(2, ν): 1 − (1 + 2x/ν)^(−ν/2) = 0.95 ⟹ x = (ν/2)(0.05^(−2/ν) − 1); ν → ∞: −ln 0.05.

@@ -110,11 +110,12 @@ double sigma_deg_of(const Eigen::Matrix2d& covariance_rad2);
 // The number of groups frame_jackknife deals `frames` frames into: min(frames, max_groups).
 int frame_jackknife_groups(int frames, int max_groups = 6);
 
-// q95(ν)/q95(∞) (see "Few groups" above): the squared widening of a covariance A + B, A measured by
-// a jackknife of frame_groups groups and B by one of sector_groups (A, B ≥ 0: the two terms' larger
-// eigenvalues, already scaled by the calibration's a² and b²). A group count of 0 marks a term as
-// absent. 1 when A + B = 0; 6.34 for 3 groups alone, 1.93 for 6.
-double few_groups_widening2(double a, int frame_groups, double b, int sector_groups);
+// q95(ν)/q95(∞) (see "Few groups" above): the squared widening of a variance frames_var +
+// sectors_var, the first measured by a jackknife of frame_groups groups and the second by one of
+// sector_groups (both ≥ 0: the two terms' larger eigenvalues, already scaled by the calibration's
+// a² and b²). A group count of 0 marks a term as absent. 1 when the sum is 0; 6.34 for 3 groups
+// alone, 1.93 for 6.
+double few_groups_widening2(double frames_var, int frame_groups, double sectors_var, int sector_groups);
 
 // The jackknives behind one answer: their covariances (rad², tangent plane) and group counts.
 struct Jackknives {
