@@ -49,9 +49,10 @@ bool used_by_auto(std::string_view method, bool site_known);
 // seed, most accurate first: the order in which auto prefers an agreeing answer.
 const std::vector<std::string>& auto_rank();
 
-// A method's calibration (skypole/uncertainty.h), measured by the calibration study on seed 1
-// (docs/benchmarks.md, section 7). The stated covariance is
-//     C = inflation²·C_frames + sector_inflation²·C_sectors + s²·I,
+// A method's calibration (skypole/uncertainty.h), measured by the calibration study on seeds 1, 3,
+// 4, 5 and 6 pooled (docs/benchmarks.md, section 7a). The stated covariance is
+//     C = w²·(inflation²·C_frames + sector_inflation²·C_sectors) + s²·I,
+// (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
 //     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
 //          + (unpolarized_deg·unpolarized_share)²
 // (pixel: pixel_angle_deg of the stack's camera, uncertainty.h; unpolarized_share: cloud_share.h)

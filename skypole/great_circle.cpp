@@ -379,14 +379,8 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
   // Each pixel's sky sector, when the crossings are kept for the sector jackknife.
   std::vector<std::uint8_t> sector;
   if (params.sectors > 0) {
-    if (params.sectors > 255)
-      throw std::invalid_argument("great_circle: at most 255 sky sectors, got " + std::to_string(params.sectors));
     const camera::Intrinsics& k = sky.lens->intrinsics();
-    sector.resize(sky.pixels());
-    for (int y = 0; y < sky.height; ++y)
-      for (int x = 0; x < sky.width; ++x)
-        sector[static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) + static_cast<std::size_t>(x)] =
-            static_cast<std::uint8_t>(sector_of(x, y, Eigen::Vector2d(k.cx, k.cy), params.sectors));
+    sector = sector_map(sky.width, sky.height, Eigen::Vector2d(k.cx, k.cy), params.sectors);
   }
 
   std::vector<CirclePair>& circles = out.circles;
@@ -512,10 +506,10 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
   for (std::size_t k = 0; k < normals.size(); ++k) {
     if (fit.weight[k] <= 0) continue;
     const CirclePair& c = circles[index[k]];
-    const double step = sky.times_known ? kHourAngleRate * (sky.times_s[static_cast<std::size_t>(c.j)] -
-                                                            sky.times_s[static_cast<std::size_t>(c.i)])
-                                        : 0.0;
-    const double v = c.radial_normal.cross(c.plane_normal).dot(axis) * (std::sin(step) < 0 ? -1.0 : 1.0);
+    const double sense = sky.times_known ? rotation_sense(sky.times_s[static_cast<std::size_t>(c.j)] -
+                                                          sky.times_s[static_cast<std::size_t>(c.i)])
+                                         : 1.0;
+    const double v = c.radial_normal.cross(c.plane_normal).dot(axis) * sense;
     vote += fit.weight[k] * v;
     total += fit.weight[k] * std::abs(v);
   }

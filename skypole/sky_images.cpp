@@ -291,16 +291,13 @@ struct RotationVote {
 
 RotationVote rotation_vote(const std::vector<std::optional<Eigen::Vector3d>>& suns,
                            const Eigen::Vector3d& axis_camera, const std::vector<double>& times_s) {
-  constexpr double kHourAngleRate = 2 * std::numbers::pi / 86400.0;  // rad/s
   const bool timed = times_s.size() == suns.size();
   RotationVote v;
   for (std::size_t i = 0; i < suns.size(); ++i)
     for (std::size_t j = i + 1; j < suns.size(); ++j) {
       if (!suns[i] || !suns[j]) continue;
       const Eigen::Vector3d c = suns[i]->cross(*suns[j]);
-      // More than 12 h of hour angle apart, the short way round is the other sense.
-      const bool reversed = timed && std::sin(kHourAngleRate * (times_s[j] - times_s[i])) < 0;
-      v.vote += reversed ? -c.dot(axis_camera) : c.dot(axis_camera);
+      v.vote += (timed ? rotation_sense(times_s[j] - times_s[i]) : 1.0) * c.dot(axis_camera);
       v.total += c.norm();
       ++v.used;
     }
@@ -314,6 +311,11 @@ std::string hint_against_data(bool hint_north, bool data_north) {
 }
 
 }  // namespace
+
+double rotation_sense(double seconds_apart) {
+  constexpr double kHourAngleRate = 2 * std::numbers::pi / 86400.0;  // rad/s
+  return std::sin(kHourAngleRate * seconds_apart) < 0 ? -1.0 : 1.0;
+}
 
 HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
                                      const Eigen::Vector3d& axis_camera, Hemisphere hint,

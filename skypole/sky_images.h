@@ -78,13 +78,17 @@ struct HemisphereDecision {
   std::string why;          // when !ok
 };
 
+// The sense of the sun's turn from one frame to another `seconds_apart` later, as a sign on the
+// sun-rotation vote: s_i × s_j ∝ −sin Δω·NCP, so a pair more than 12 h of hour angle apart (a
+// midnight sun) sees the sun turned the short way round, against the sky: −1; otherwise +1.
+double rotation_sense(double seconds_apart);
+
 // Is `axis_camera`, the end of the pole axis above the horizon, the NCP (rather than the SCP)?
 // From the sun's rotation: Σ (s_i × s_j)·axis < 0 over all pairs of frames i < j with a sun means
 // NCP. A north/south hint decides when the rotation cannot; when the rotation contradicts the hint
 // decisively, the data win and `source` says so (skypole/README.md, "North or south").
-// times_s (seconds, one per sun; empty: unknown): s_i × s_j ∝ −sin Δω·NCP, so a pair more than
-// 12 h of hour angle apart (a midnight sun) sees the sun turned the short way round and its vote
-// counts reversed (as great_circle's, great_circle.h step 5).
+// times_s (seconds, one per sun; empty: unknown): each pair's vote counts with its
+// rotation_sense (as great_circle's, great_circle.h step 5).
 HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vector3d>>& suns,
                                      const Eigen::Vector3d& axis_camera, Hemisphere hint,
                                      const std::vector<double>& times_s = {});

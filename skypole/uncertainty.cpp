@@ -27,6 +27,11 @@ void tangent_axes(const Eigen::Vector3d& p, Eigen::Vector3d& e_az, Eigen::Vector
   e_alt = Eigen::Vector3d(-std::sin(el) * std::sin(az), -std::sin(el) * std::cos(az), std::cos(el));
 }
 
+// The larger eigenvalue of a 2×2 covariance, at least 0.
+double lambda_max(const Eigen::Matrix2d& c) {
+  return std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c).eigenvalues().maxCoeff(), 0.0);
+}
+
 std::string deg_text(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2f°", v);
@@ -41,8 +46,7 @@ void set_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& c) {
   const double cos_alt = std::cos(alt);
   const double sb = cos_alt > 1e-9 ? std::sqrt(std::max(c(0, 0), 0.0)) / cos_alt / kDeg : 180.0;
   e.sigma_bearing_deg = std::min(sb, 180.0);
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(c);
-  const double lmax = std::max(es.eigenvalues().maxCoeff(), 0.0);
+  const double lmax = lambda_max(c);
   e.sigma_deg = std::sqrt(lmax) / kDeg;
   e.cone95_deg = std::min(std::sqrt(kChi2_2_95 * lmax) / kDeg, 180.0);
 }
@@ -80,24 +84,31 @@ int sector_of(double x, double y, const Eigen::Vector2d& c, int sectors) {
   return std::clamp(static_cast<int>(t * sectors), 0, sectors - 1);
 }
 
+std::vector<std::uint8_t> sector_map(int width, int height, const Eigen::Vector2d& c, int sectors) {
+  if (sectors < 1 || sectors > 255)
+    throw std::invalid_argument("sky sectors: 1 to 255, got " + std::to_string(sectors));
+  std::vector<std::uint8_t> map(static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0)));
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      map[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] =
+          static_cast<std::uint8_t>(sector_of(x, y, c, sectors));
+  return map;
+}
+
 stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c, int g, int sectors) {
   stack::Stack sub = stack;
-  // The sector's pixels, found once for the frames' size (every frame of a stack has the same).
-  std::vector<std::size_t> in_sector;
+  // The sectors' map, made once for the frames' size (every frame of a stack has the same).
+  std::vector<std::uint8_t> map;
   int w = -1, h = -1;
   for (stack::Frame& f : sub.frames) {
     if (f.width != w || f.height != h) {
       w = f.width, h = f.height;
-      in_sector.clear();
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-          if (sector_of(x, y, c, sectors) == g)
-            in_sector.push_back(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+      map = sector_map(w, h, c, sectors);
     }
-    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     std::vector<float>& mask = f.channels["mask"];
-    if (mask.size() != n) mask.assign(n, 1.0f);  // a stack without a mask: every pixel was usable
-    for (const std::size_t i : in_sector) mask[i] = 0.0f;
+    if (mask.size() != map.size()) mask.assign(map.size(), 1.0f);  // a stack without a mask: every pixel was usable
+    for (std::size_t i = 0; i < map.size(); ++i)
+      if (map[i] == g) mask[i] = 0.0f;
   }
   return sub;
 }
@@ -172,10 +183,7 @@ std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
                          "the answer rests on one part of the sky (cloud, a neutral point, saturation)");
 }
 
-double sigma_deg_of(const Eigen::Matrix2d& c) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(c);
-  return std::sqrt(std::max(es.eigenvalues().maxCoeff(), 0.0)) / kDeg;
-}
+double sigma_deg_of(const Eigen::Matrix2d& c) { return std::sqrt(lambda_max(c)) / kDeg; }
 
 int frame_jackknife_groups(int frames, int max_groups) { return std::min(frames, std::max(max_groups, 2)); }
 
@@ -196,10 +204,8 @@ void set_calibrated_uncertainty(PoleEstimate& e, const Jackknives& j, double a, 
                                 bool widen) {
   const double floor = floor_deg * kDeg;
   const Eigen::Matrix2d jack = a * a * j.frames + b * b * j.sectors;
-  const auto lmax = [](const Eigen::Matrix2d& m) {
-    return std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(m).eigenvalues().maxCoeff(), 0.0);
-  };
-  const double w2 = widen ? few_groups_widening2(a * a * lmax(j.frames), j.frame_groups, b * b * lmax(j.sectors),
+  const double w2 = widen ? few_groups_widening2(a * a * lambda_max(j.frames), j.frame_groups,
+                                                 b * b * lambda_max(j.sectors),
                                                  b > 0 ? j.sector_groups : 0)
                           : 1.0;
   e.jackknife_frames_rad2 = j.frames;

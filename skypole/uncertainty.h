@@ -76,6 +76,10 @@ stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8
 // angle atan2(y − cy, x − cx) from −180° cut into `sectors` equal parts.
 int sector_of(double x, double y, const Eigen::Vector2d& centre_px, int sectors);
 
+// sector_of for every pixel of a width × height image, row-major (1 ≤ sectors ≤ 255, else
+// std::invalid_argument): what sector_left_out masks by and great_circle tags its crossings with.
+std::vector<std::uint8_t> sector_map(int width, int height, const Eigen::Vector2d& centre_px, int sectors);
+
 // The stack with the pixels of sector `g` of `sectors` (sector_of) masked ("mask" = 0) in every
 // frame: what a sector jackknife's sub-run sees.
 stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& centre_px, int g, int sectors);
