@@ -113,7 +113,7 @@ const std::vector<std::string>& auto_rank() {
 
 bool has_sector_jackknife(std::string_view method) {
   return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp" ||
-         method == "great_circle";
+         method == "great_circle" || method == "invariance";
 }
 
 bool used_by_auto(std::string_view method, bool site_known) {
@@ -345,11 +345,20 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   ClassicParams cl_params;
   cl_params.input = input;
   cl_params.keep_intermediates = classic_images != nullptr;
+  // invariance's answers without each sector of its window about the pole.
+  std::vector<PoleEstimate> inv_without_sector;
   PoleEstimate e;
   if (method == "great_circle") {
     gc_params.sectors = kSkySectors;  // its sector jackknife refits the kept crossings
     gc = great_circle_pairs(stack, gc_params);
     e = great_circle_pole(*gc, gc_params).estimate;
+  } else if (method == "invariance") {
+    InvarianceParams p;
+    p.input = input;
+    p.sectors = kSkySectors;  // its sector jackknife refits its own window without each sector
+    InvarianceResult r = estimate_invariance(stack, p);
+    e = r.estimate;
+    inv_without_sector = std::move(r.without_sector);
   } else if (method == "classic") {
     cl = prepare_classic(stack, cl_params);
     ClassicResult r = classic_from(*cl, cl_params);
@@ -383,13 +392,18 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   Jackknives jack;
   jack.frames = *frames;
   jack.frame_groups = frame_jackknife_groups(static_cast<int>(stack.frames.size()));
-  if (has_sector_jackknife(method)) {
-    // Sectors about the principal point, so that each holds a sixth of the sky.
+  if (method == "invariance" && inv_without_sector.empty()) {
+    // The per-frame refinement (frames without times) has no sector jackknife.
+  } else if (has_sector_jackknife(method)) {
+    // Sectors about the principal point, so that each holds a sixth of the sky (invariance: about
+    // its pole, within the window it reads).
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
     const auto s =
         gc ? sector_jackknife(e, gc->sectors,
                               [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; })
-           : sector_jackknife(
+        : !inv_without_sector.empty()
+            ? sector_jackknife(e, kSkySectors, [&](int g) { return inv_without_sector[static_cast<std::size_t>(g)]; })
+            : sector_jackknife(
                  e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
                  Eigen::Vector2d(k.cx, k.cy), kSkySectors);
     if (!s) return e;

@@ -81,10 +81,10 @@ struct MethodCalibration {
   double unpolarized_deg = 0.0;
 };
 // Whether `method` runs the sector jackknife (uncertainty.h): the methods that fit the whole sky
-// per frame (sun_vector, sun_vector_ephemeris, sun_dolp), and great_circle, which refits its
-// pairs' cached zero crossings outside each sector rather than rerunning (great_circle.h).
-// invariance reads the sky around its pole, where a masked wedge trips its edge checks (it declined
-// clear noise-free days); classic stays the paper's.
+// per frame (sun_vector, sun_vector_ephemeris, sun_dolp); great_circle, which refits its pairs'
+// cached zero crossings outside each sector rather than rerunning (great_circle.h); and invariance,
+// which refits its co-rotating window about the pole without each sector of that window (a masked
+// wedge of the whole sky would trip its edge checks; invariance.h). classic stays the paper's.
 bool has_sector_jackknife(std::string_view method);
 const std::vector<MethodCalibration>& method_calibrations();
 

@@ -198,7 +198,7 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
       result.corotating
           ? corotating_refine(sky, motion, result.detrended, best_d,
                               params.corotating_radius_deg, params.corotating_min_radius_deg,
-                              params.corotating_degree)
+                              params.corotating_degree, params.sectors)
           : per_frame_refine(sky, cost.h, best_d, fit_radius, params.per_frame_degree);
   if (!sp.ok) return fail(sp.why);
 
@@ -227,6 +227,11 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   result.rotation_sense = sp.sense;
   result.rotation_sense_contrast = sp.sense_contrast;
   result.estimate.residual_deg = sp.sigma_rad / kDeg;
+  for (const auto& d : sp.without_sector)
+    result.without_sector.push_back(
+        d ? make_estimate(method, sky, hemi.is_north ? *d : Eigen::Vector3d(-*d), params.input)
+          : invalid_estimate(method, "without this sector of the window about the pole the fit finds no "
+                                     "minimum of DoLP variance"));
   result.estimate.seconds = seconds();
   return result;
 }

@@ -75,10 +75,18 @@ struct InvarianceParams {
   // the signal).
   Detrend detrend = Detrend::automatic;
   double auto_detrend_min_hours = 4.0;
+  // The sector jackknife (uncertainty.h), done inside the co-rotating fit: its window's samples are
+  // dealt into this many azimuth sectors about the minimum and the minimum refitted without each
+  // (InvarianceResult::without_sector). 0: none. A wedge of the whole sky masked instead would
+  // cut into the window about the pole and trip its edge checks.
+  int sectors = 0;
 };
 
 struct InvarianceResult {
   PoleEstimate estimate;
+  // With params.sectors > 0 and the co-rotating fit: the answer without each sector of its window
+  // (invalid, with the reason, where the refit found no minimum). Empty otherwise.
+  std::vector<PoleEstimate> without_sector;
   double dolp_rms_at_pole = 0;  // √V at the minimum (DoLP units)
   bool detrended = false;
   bool corotating = false;  // which step 4 ran

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 
@@ -274,6 +275,9 @@ struct CorotatingFit {
   Poly poly;
   bool trend;
   double sign = 1;  // sense of the sky's turn about P: −1 when P is the NCP, +1 the SCP
+  // The window's samples this fit uses (keep[k] = 0 leaves sample k out: the sector jackknife);
+  // nullptr: all.
+  const std::vector<std::uint8_t>* keep = nullptr;
 
   // The rotation that takes frame t's sky back to the middle instant's, about pole p:
   // tilt(a, −sign·Δδ_t) · spin(p, −sign·ΔH_t), undoing the turn about the pole and then the
@@ -316,6 +320,7 @@ struct CorotatingFit {
       const Eigen::Matrix3d back = turn_back(p, axis, t);
       if (trend) row(np) = (sky.times_s[t] - t_mid) / span;
       for (std::size_t k = 0; k < win.dirs.size(); ++k) {
+        if (keep && !(*keep)[k]) continue;
         const Eigen::Vector3d d = back * win.dirs[k];
         const double dp = d.dot(p);
         if (dp <= 0) continue;
@@ -333,10 +338,57 @@ struct CorotatingFit {
   }
 };
 
+// Newton steps on fit.rss from c (where it is f0) over a 3×3 stencil whose spacing shrinks from
+// two pixel angles `px` to a hundredth of one. Returns the tangent-plane offset from c of the
+// minimum (f0 and hess: the residual sum there and its Hessian), or stops early once the offset
+// passes half of `reach` (tan of the window's radius: the caller re-centres there).
+Eigen::Vector2d descend(const CorotatingFit& fit, const Eigen::Vector3d& c, double px, double reach, double& f0,
+                        Eigen::Matrix2d& hess) {
+  Eigen::Vector3d e1, e2;
+  tangent_basis(c, e1, e2);
+  const auto at = [&](const Eigen::Vector2d& x) { return (c + x(0) * e1 + x(1) * e2).normalized(); };
+  Eigen::Vector2d x = Eigen::Vector2d::Zero();
+  double h = 2 * px;
+  hess = Eigen::Matrix2d::Identity();
+  for (int it = 0; it < 60 && h > 0.01 * px; ++it) {
+    double f[3][3];
+    for (int j = -1; j <= 1; ++j)
+      for (int i = -1; i <= 1; ++i)
+        f[j + 1][i + 1] = (i == 0 && j == 0) ? f0 : fit.rss(at(x + h * Eigen::Vector2d(i, j)));
+    const Eigen::Vector2d g((f[1][2] - f[1][0]) / (2 * h), (f[2][1] - f[0][1]) / (2 * h));
+    hess(0, 0) = (f[1][2] - 2 * f0 + f[1][0]) / (h * h);
+    hess(1, 1) = (f[2][1] - 2 * f0 + f[0][1]) / (h * h);
+    hess(0, 1) = hess(1, 0) = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / (4 * h * h);
+    Eigen::Vector2d step = Eigen::Vector2d::Zero();
+    if (Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(hess).eigenvalues()(0) > 0) {
+      step = -hess.ldlt().solve(g);
+      if (step.norm() > 3 * h) step *= 3 * h / step.norm();
+    } else {  // not convex at this scale: go to the best node of the stencil
+      double fb = f0;
+      for (int j = -1; j <= 1; ++j)
+        for (int i = -1; i <= 1; ++i)
+          if (f[j + 1][i + 1] < fb) {
+            fb = f[j + 1][i + 1];
+            step = h * Eigen::Vector2d(i, j);
+          }
+    }
+    if (const double fn = fit.rss(at(x + step)); fn < f0) {
+      x += step;
+      f0 = fn;
+      if (step.norm() < 0.5 * h) h *= 0.5;
+    } else {
+      h *= 0.5;
+    }
+    if (x.norm() > 0.5 * reach) break;
+  }
+  return x;
+}
+
 }  // namespace
 
 SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool trend,
-                           Eigen::Vector3d c, double radius_deg, double min_radius_deg, int degree) {
+                           Eigen::Vector3d c, double radius_deg, double min_radius_deg, int degree,
+                           int sectors) {
   SubPixel out;
   for (int recentre = 0; recentre < 4; ++recentre) {
     const auto win = corotating_window(sky, c, radius_deg * kDeg, min_radius_deg * kDeg, out.why);
@@ -359,42 +411,8 @@ SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool t
         fit.sign = sg;
       }
     }
-    // Newton steps from a 3×3 stencil whose spacing shrinks from two pixels to a hundredth of one.
-    const double px = pixel_angle(sky, c);
-    Eigen::Vector2d x = Eigen::Vector2d::Zero();
-    double h = 2 * px;
-    Eigen::Matrix2d hess = Eigen::Matrix2d::Identity();
-    for (int it = 0; it < 60 && h > 0.01 * px; ++it) {
-      double f[3][3];
-      for (int j = -1; j <= 1; ++j)
-        for (int i = -1; i <= 1; ++i)
-          f[j + 1][i + 1] = (i == 0 && j == 0) ? f0 : fit.rss(at(x + h * Eigen::Vector2d(i, j)));
-      const Eigen::Vector2d g((f[1][2] - f[1][0]) / (2 * h), (f[2][1] - f[0][1]) / (2 * h));
-      hess(0, 0) = (f[1][2] - 2 * f0 + f[1][0]) / (h * h);
-      hess(1, 1) = (f[2][1] - 2 * f0 + f[0][1]) / (h * h);
-      hess(0, 1) = hess(1, 0) = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / (4 * h * h);
-      Eigen::Vector2d step = Eigen::Vector2d::Zero();
-      if (Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(hess).eigenvalues()(0) > 0) {
-        step = -hess.ldlt().solve(g);
-        if (step.norm() > 3 * h) step *= 3 * h / step.norm();
-      } else {  // not convex at this scale: go to the best node of the stencil
-        double fb = f0;
-        for (int j = -1; j <= 1; ++j)
-          for (int i = -1; i <= 1; ++i)
-            if (f[j + 1][i + 1] < fb) {
-              fb = f[j + 1][i + 1];
-              step = h * Eigen::Vector2d(i, j);
-            }
-      }
-      if (const double fn = fit.rss(at(x + step)); fn < f0) {
-        x += step;
-        f0 = fn;
-        if (step.norm() < 0.5 * h) h *= 0.5;
-      } else {
-        h *= 0.5;
-      }
-      if (x.norm() > 0.5 * std::tan(win->radius_rad)) break;  // re-centre the window there
-    }
+    Eigen::Matrix2d hess;
+    const Eigen::Vector2d x = descend(fit, c, pixel_angle(sky, c), std::tan(win->radius_rad), f0, hess);
     if (x.norm() > 0.5 * std::tan(win->radius_rad)) {
       c = at(x);
       continue;
@@ -412,6 +430,31 @@ SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool t
     out.v = f0 / static_cast<double>(std::max<std::size_t>(1, rows));
     out.sigma_rad = sigma_from_curvature(
         hess, f0 / std::max(1.0, static_cast<double>(rows) - fit.poly.terms() - (trend ? 3.0 : 2.0)));
+    // The sector jackknife's refits: the window's samples dealt into azimuth sectors about the
+    // minimum, each refit without one sector from the minimum found with all of them.
+    if (sectors > 0) {
+      Eigen::Vector3d u1, u2;
+      tangent_basis(out.d, u1, u2);
+      std::vector<int> sector(win->dirs.size());
+      for (std::size_t k = 0; k < win->dirs.size(); ++k) {
+        const double a = std::atan2(win->dirs[k].dot(u2), win->dirs[k].dot(u1));
+        sector[k] = std::clamp(static_cast<int>(std::floor((a + kPi) / (2 * kPi) * sectors)), 0, sectors - 1);
+      }
+      const double reach = std::tan(win->radius_rad);
+      for (int g = 0; g < sectors; ++g) {
+        std::vector<std::uint8_t> keep(win->dirs.size());
+        for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = sector[k] != g;
+        CorotatingFit sub = fit;
+        sub.keep = &keep;
+        double fg = sub.rss(out.d);
+        Eigen::Matrix2d hg;
+        const Eigen::Vector2d xg = descend(sub, out.d, pixel_angle(sky, out.d), reach, fg, hg);
+        if (xg.norm() > 0.5 * reach)
+          out.without_sector.emplace_back(std::nullopt);  // left the window: no minimum without g
+        else
+          out.without_sector.emplace_back((out.d + xg(0) * u1 + xg(1) * u2).normalized());
+      }
+    }
     return out;
   }
   out.why = "the sub-pixel fit did not settle (no clear minimum of DoLP variance)";

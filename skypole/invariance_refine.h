@@ -25,6 +25,9 @@ struct SubPixel {
   // residual sums, ≥ 1); 0 / 0 for per_frame.
   int sense = 0;
   double sense_contrast = 0;
+  // corotating with sectors > 0: the minimum refitted without each azimuth sector of the window
+  // about d (nullopt: the refit left the window), for the sector jackknife (uncertainty.h).
+  std::vector<std::optional<Eigen::Vector3d>> without_sector;
 };
 
 // Tangent basis (e1, e2) at the unit vector c.
@@ -57,8 +60,11 @@ struct SunMotion {
 // since the middle instant, and all frames' DoLP within radius_deg of P are fitted by ONE
 // polynomial of total degree `degree` in the turned tangent-plane coordinates (plus a linear
 // trend in time with `trend`); the pole is the P that leaves the least variance. The window is
-// shrunk to what the usable image holds around c (down to min_radius_deg, else !ok).
+// shrunk to what the usable image holds around c (down to min_radius_deg, else !ok). With
+// sectors > 0 the window's samples are also dealt into that many azimuth sectors about the minimum
+// and the fit redone without each (SubPixel::without_sector).
 SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool trend,
-                           Eigen::Vector3d c, double radius_deg, double min_radius_deg, int degree);
+                           Eigen::Vector3d c, double radius_deg, double min_radius_deg, int degree,
+                           int sectors = 0);
 
 }  // namespace skypol::skypole

@@ -17,8 +17,9 @@
 // sectors about the principal point and the method runs again with one sector masked in every
 // frame (sun_vector, sun_vector_ephemeris, sun_dolp: the methods that fit the whole sky per frame;
 // great_circle refits its cached zero crossings outside the sector instead of rerunning;
-// invariance reads the sky around its pole, and a masked wedge there trips its edge checks);
-// the same formula gives a second covariance. An error that lives in one part of the sky moves
+// invariance reads only the sky around its pole, where a masked wedge of the whole sky would trip
+// its edge checks, so it deals its own window's samples into six sectors about the pole and refits
+// without each); the same formula gives a second covariance. An error that lives in one part of the sky moves
 // the answer without that part; one spread evenly over the sky still does not show.
 //
 // A method whose answer does not survive the loss of a group (of frames or of sky) — it declines,
