@@ -23,7 +23,7 @@ err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] that keeps
 figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
 calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, dof, max_residual, min_window, max_unpolarized, max_anisotropy}}; missing keys are 0, no
+pixels, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
 --auto ranked|sharpest|mean|mean_raw: auto returns the agreeing answer of the most accurate method
@@ -56,7 +56,7 @@ MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leave
 # auto (evaluate.cpp, auto_rank()): the agreeing answer of the first method in this order, the
 # methods by the median error of their calibrated answers on seed 1 (the tuning seed).
 RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
-SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "great_circle")  # evaluate.cpp has_sector_jackknife
+SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "great_circle", "invariance")  # evaluate.cpp has_sector_jackknife
 
 
 def fnum(s):
@@ -79,7 +79,7 @@ def load(paths, replace=()):
         if m == "auto":
             continue
         d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "cf", "cs", "res", "window", "unpol",
-                                               "aniso", "pixel", "off", "frames", "sensor", "seed")})
+                                               "aniso", "misfit", "pixel", "off", "frames", "sensor", "seed")})
         d["stack"].append(int(r["stack"]))
         d["sky"].append(r["sky"])
         v = r["valid"] == "1"
@@ -103,6 +103,7 @@ def load(paths, replace=()):
         d["window"].append(fnum(r["window_min"]))
         d["unpol"].append(fnum(r["unpolarized_share"]))
         d["aniso"].append(fnum(r.get("ring_anisotropy", "0") or "0"))
+        d["misfit"].append(fnum(r.get("model_misfit", "0") or "0") if v else 0.0)  # a run before it: 0
         d["pixel"].append(fnum(r["pixel_deg"]))
         d["frames"].append(int(r["frames"]))
         d["sensor"].append(r["sensor"])
@@ -173,6 +174,7 @@ def apply(d, c, bound):
     ok &= ~(d["window"] < c.get("min_window", 0.0))
     ok &= ~(d["unpol"] > c.get("max_unpolarized", math.inf))
     ok &= ~(d["aniso"] > c.get("max_anisotropy", math.inf))
+    ok &= ~(d["misfit"] > c.get("max_misfit", math.inf))
     ok &= K95 * sigma <= bound
     return ok, sigma
 
@@ -217,14 +219,19 @@ def search(m, d, bound):
     win_c = [0.0, 60, 120]
     unpol_c = [math.inf, 0.5, 0.4, 0.3, 0.25]
     aniso_c = [math.inf, 0.5, 0.4, 0.3, 0.2, 0.1]
+    # The model-misfit gate, for the methods that measure one (PoleEstimate::model_misfit: sun_dolp's
+    # Rayleigh fit, where a clear Rayleigh sky reads 0-0.002 and Berry's and vrte's skies 0.016-0.08).
+    misfit_c = [math.inf] if not np.any(d["misfit"] > 0) else [math.inf, 0.03, 0.02, 0.01, 0.005]
     gates, masks = [], []
     res = np.nan_to_num(d["res"], nan=1e9)
-    for mr, mw, mu, ma in itertools.product(res_c, win_c, unpol_c, aniso_c):
-        gates.append({"max_residual": mr, "min_window": mw, "max_unpolarized": mu, "max_anisotropy": ma})
-        masks.append(d["valid"] & ~(res > mr) & ~(d["window"] < mw) & ~(d["unpol"] > mu) & ~(d["aniso"] > ma))
+    for mr, mw, mu, ma, mm in itertools.product(res_c, win_c, unpol_c, aniso_c, misfit_c):
+        gates.append({"max_residual": mr, "min_window": mw, "max_unpolarized": mu, "max_anisotropy": ma,
+                      "max_misfit": mm})
+        masks.append(d["valid"] & ~(res > mr) & ~(d["window"] < mw) & ~(d["unpol"] > mu) & ~(d["aniso"] > ma)
+                     & ~(d["misfit"] > mm))
     G = np.array(masks, dtype=np.float64)  # gates x rows
-    ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"]) if math.isfinite(x))
-                       + (g["min_window"] > 0) for g in gates])
+    ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"], g["max_misfit"])
+                           if math.isfinite(x)) + (g["min_window"] > 0) for g in gates])
     err = np.nan_to_num(d["err"], nan=1e9)
     combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels))
     found = []

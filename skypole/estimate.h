@@ -100,6 +100,11 @@ struct PoleEstimate {
   // The method's own fit residual in degrees (an angular spread or fit residual, documented with
   // each method; smaller is better). A diagnostic, not an uncertainty.
   double residual_deg = 0;
+  // How far the sky departs from the method's model of it, as the method measures it (sun_dolp:
+  // the rms of its Rayleigh fit's DoLP residual beyond the images' own noise, as a share of the
+  // fitted Pmax, the median over frames: a multiply scattering sky's DoLP is not Rayleigh's law).
+  // 0: not measured. A diagnostic the calibration's gates read (evaluate.h).
+  double model_misfit = 0;
   // The uncertainty, one meaning for every method (skypole/uncertainty.h): 1-σ of the bearing and
   // of the latitude, the radius of the 95 % cone about pole_camera on the sphere, and σ = √λmax of
   // the tangent-plane covariance, all in degrees. Set by run_method(); 0 = not measured (a method

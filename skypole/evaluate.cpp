@@ -285,6 +285,16 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
     e.why_invalid = buf;
     return;
   }
+  if (e.model_misfit > c.max_model_misfit) {
+    std::snprintf(buf, sizeof buf,
+                  "the sky is not the model this method fits: its DoLP departs from the fitted law by %.1f %% of "
+                  "the fitted maximum beyond the images' noise (a multiply scattering sky, haze or cloud), above "
+                  "the %.1f %% beyond which this method's error was not predictable in the calibration study",
+                  100.0 * e.model_misfit, 100.0 * c.max_model_misfit);
+    e.valid = false;
+    e.why_invalid = buf;
+    return;
+  }
   const double window_min =
       (stack.frames.back().truth.time.unix_seconds - stack.frames.front().truth.time.unix_seconds) / 60.0;
   if (window_min < c.min_window_min) {

@@ -74,6 +74,8 @@ struct MethodCalibration {
   // Decline a sky whose DoLP is not a function of the angle to the sun beyond this
   // (ring_anisotropy, skypole/cloud_share.h: neutral points moved by a real sky).
   double max_ring_anisotropy = std::numeric_limits<double>::infinity();
+  // Decline a sky that departs from the method's own model beyond this (PoleEstimate::model_misfit).
+  double max_model_misfit = std::numeric_limits<double>::infinity();
   // The factor on the sector jackknife's covariance (uncertainty.h; 0: not counted), and a σ term
   // unpolarized_deg·unpolarized_share (cloud_share.h: cloud, neutral points, saturation — errors
   // every frame shares, which neither jackknife sees in full).

@@ -230,6 +230,13 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
   return v[k];
 }
 
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[static_cast<std::size_t>(k)];
+}
+
 std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,
                                       const Eigen::Vector2d& pixel) {
   const double fx = std::floor(pixel.x()), fy = std::floor(pixel.y());

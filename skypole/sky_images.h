@@ -59,6 +59,10 @@ std::vector<std::vector<float>> filter_all(const SkyImages& sky, double radius_p
 // Value below which `fraction` of the valid pixels of `image` lie (nth_element; 0 if none).
 float valid_quantile(const std::vector<float>& image, const SkyImages& sky, double fraction);
 
+// The q-quantile (0 ≤ q ≤ 1) of v: its element of rank ⌊q·(n − 1)⌋ (the lower median for q = 0.5);
+// 0 for an empty v.
+double quantile(std::vector<double> v, double q);
+
 // Bilinear sample of `image` at continuous pixel (u, v) (pixel centres at integers); nullopt if
 // any of the four neighbours is not valid.
 std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,

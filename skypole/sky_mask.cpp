@@ -15,13 +15,6 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kMinDolpForAolp = 0.05;  // below, the AoLP is mostly noise
 
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
-}
-
 const std::vector<float>* channel(const stack::Frame& f, const std::string& name) {
   const auto it = f.channels.find(name);
   return it == f.channels.end() ? nullptr : &it->second;

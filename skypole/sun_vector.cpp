@@ -32,6 +32,19 @@ std::string_view pole_from_sun_name(PoleFromSun m) { return enum_name(kPoleFromS
 SunSource parse_sun_source(std::string_view name) { return enum_from_name(kSunSourceNames, name, "sun source"); }
 std::string_view sun_source_name(SunSource s) { return enum_name(kSunSourceNames, s); }
 
+double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp) {
+  std::vector<double> dd;
+  for (int y = 0; y < sky.height; ++y)
+    for (int x = 1; x + 1 < sky.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
+                            static_cast<std::size_t>(x);
+      if (!sky.valid[i - 1] || !sky.valid[i] || !sky.valid[i + 1]) continue;
+      dd.push_back(std::abs(static_cast<double>(dolp[i - 1]) - 2.0 * static_cast<double>(dolp[i]) +
+                            static_cast<double>(dolp[i + 1])));
+    }
+  return 1.4826 * quantile(std::move(dd), 0.5) / std::sqrt(6.0);
+}
+
 std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const Eigen::Vector3d& start, double* pmax,
                                              double* rms, bool robust) {
@@ -189,12 +202,18 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   // Each frame's sun on its own (in parallel); the first failing frame is reported.
   std::vector<std::optional<Eigen::Vector3d>> suns(sky.frames());
   std::vector<double> quality(sky.frames(), 1.0);
+  std::vector<double> misfit(sky.frames(), 0.0);  // dolp: the residual beyond the noise, over Pmax
   tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
-    if (params.source == SunSource::aolp)
+    if (params.source == SunSource::aolp) {
       suns[t] = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &quality[t],
                               params.input.sky_mask);
-    else if (starts[t])
-      suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], nullptr, &quality[t], params.input.sky_mask);
+    } else if (starts[t]) {
+      double pmax = 0;
+      suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], &pmax, &quality[t], params.input.sky_mask);
+      const double noise = dolp_noise_rms(sky, sky.dolp[t]);
+      if (suns[t] && pmax > 0)
+        misfit[t] = std::sqrt(std::max(0.0, quality[t] * quality[t] - noise * noise)) / pmax;
+    }
   });
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     if (!suns[t]) {
@@ -237,6 +256,7 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
     result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                             std::string("ephemeris mode: latitude is the given site's");
     result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kDeg;
+    if (params.source == SunSource::dolp) result.estimate.model_misfit = quantile(misfit, 0.5);
     result.estimate.seconds = seconds();
     return result;
   }
@@ -269,6 +289,7 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
                           std::string("hemisphere from ") + hemi.source;
   const Eigen::VectorXd r = h * (s * p);
   result.estimate.residual_deg = std::sqrt(r.squaredNorm() / static_cast<double>(n)) / kDeg;
+  if (params.source == SunSource::dolp) result.estimate.model_misfit = quantile(misfit, 0.5);
   result.estimate.seconds = seconds();
   return result;
 }

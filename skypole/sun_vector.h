@@ -64,6 +64,12 @@ struct SunVectorResult {
   std::vector<double> sun_quality;           // aolp: λ0/λ1; dolp: DoLP RMS residual (small = clear)
 };
 
+// The rms of a DoLP image's pixel noise, from second differences along rows of valid pixels: for
+// white noise of variance σ², (v[x−1] − 2v[x] + v[x+1]) has variance 6σ², while the sky's smooth
+// pattern adds only its curvature (DoLP ≈ Pmax·θ²/2 near the sun: 5e-4 over three pixels of 1.5°).
+// Robust (1.4826 × the median absolute second difference), so that cloud edges do not count.
+double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp);
+
 // robust (the default; InputOptions::sky_mask turns it off for before/after measurements): fit,
 // drop the pixels the fit misses by more than 3 robust σ (1.4826·median |residual|), refit twice.
 // The sun in one frame from its AoLP (see above); nullopt if too few polarized pixels.
