@@ -234,24 +234,28 @@ const std::vector<MethodCalibration>& method_calibrations() {
   // Read off the uncalibrated runs of `skypol tradeoff calibration --seed S --binning 16
   // --max-uncertainty inf --uncalibrated` for seeds 1 (500 scenes), 3, 4, 5 and 6 (300 each),
   // pooled, by `scripts/calibration_tune.py S1 S3 S4 S5 S6 --margin 0.9 --max-coverage 0.98
-  // --bound 2.5` (docs/benchmarks.md, section 7): per method, the calibration with no error above 5°
+  // --bound 2.5` (docs/benchmarks.md, section 7a): per method, the calibration with no error above 5°
   // nor above 4.5σ (the margin leaves held-out scenes room), 90–98 % of the truths inside the stated
   // cone, and the most answers with the fewest gates and σ terms, under the study's bound (a 95 %
   // cone of at most 2.5°: σ ≤ 1.02°, so that an honest answer is more than 5° off less than once in
   // 10⁵). The jackknives' part is widened for their few groups (uncertainty.h, "Few groups"); a
   // floor of at least 0.0001° stands for what no jackknife resolves on a noise-free stack (float32
   // Stokes, the solvers' tolerances: its errors are 1e-6–1e-4°); a method with a sector jackknife
-  // counts it. Seed 7 is held out (section 7).
+  // counts it. invariance and sun_dolp were retuned after seed 7 (it lied there once each) on seeds
+  // 1 and 3–7 pooled (2,000 scenes), also requiring 80 % coverage of every sky model with 10 answers
+  // or more (`--min-sky-coverage 0.8`); seed 8 is held out (section 7c).
   //  - sun_vector_ephemeris: ×0.5 frames, ×0.25 sectors, floor 0.0001°, 0.3° × the unpolarized
   //    share, residual ≤ 1° (a saturated sensor's fit), at most half the sky unpolarized.
   //  - sun_vector: ×0.5, ×0.25, floor 0.7°, residual ≤ 5°.
-  //  - sun_dolp: ×0.5, ×0.25, floor 0.5°, residual ≤ 5°.
+  //  - sun_dolp: ×0.5, ×0.5, floor 0.03°, residual ≤ 5°, model misfit ≤ 0.01 (its Rayleigh law
+  //    fits within 1 % of Pmax beyond the noise: clear Rayleigh skies read 0–0.002, Berry's and
+  //    vrte's 0.014–0.12, where its answers were 2.5–4° off at a coverage of 0.66). Chosen over the
+  //    search's pick, which kept 8 vrte answers at a coverage of 0.63, below the rule's 10 answers.
   //  - great_circle: ×0.5, ×0.25, floor 0.03°, residual ≤ 5°, a window of at least 60 min, ring
   //    anisotropy ≤ 0.2 (its equal-DoLP sets are great circles only where DoLP is a function of the
   //    angle to the sun).
-  //  - invariance (no sector jackknife: a masked wedge trips its edge checks): ×0.5, floor 0.3°,
-  //    residual ≤ 0.3°, ring anisotropy ≤ 0.1 (its co-rotating model holds for a pattern fixed to the
-  //    sun, which Berry's and vrte's are not).
+  //  - invariance: ×0.75 frames, ×1.5 sectors (its own, about the pole: invariance.h), floor 0.4°,
+  //    residual ≤ 5°.
   //  - classic: ×6, its residual beyond 6 pixel angles a quarter counted, 2° × the unpolarized share,
   //    ring anisotropy ≤ 0.2 (the frame-only calibration: no search finds one with answers in the
   //    band; at binning 16 and 8 it answers 0–2 of 300 random scenes, without a lie).
@@ -260,13 +264,14 @@ const std::vector<MethodCalibration>& method_calibrations() {
        .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .unpolarized_deg = 2.0},
       {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0, .min_window_min = 60.0,
        .max_ring_anisotropy = 0.2, .sector_inflation = 0.25},
-      {.method = "invariance", .inflation = 0.5, .floor_deg = 0.3, .max_residual_deg = 0.3,
-       .max_ring_anisotropy = 0.1},
+      {.method = "invariance", .inflation = 0.75, .floor_deg = 0.4, .max_residual_deg = 5.0,
+       .sector_inflation = 1.5},
       {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.7, .max_residual_deg = 5.0,
        .sector_inflation = 0.25},
       {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0001, .max_residual_deg = 1.0,
        .max_unpolarized_share = 0.5, .sector_inflation = 0.25, .unpolarized_deg = 0.3},
-      {.method = "sun_dolp", .inflation = 0.5, .floor_deg = 0.5, .max_residual_deg = 5.0, .sector_inflation = 0.25},
+      {.method = "sun_dolp", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0,
+       .max_model_misfit = 0.01, .sector_inflation = 0.5},
   };
   return c;
 }

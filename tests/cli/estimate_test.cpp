@@ -84,7 +84,9 @@ TEST_CASE("estimate runs every method on a noisy southern stack; evaluate scores
   CHECK(cone < 6);
 
   // A bound the answer cannot meet: declined, with the numbers, in the text output too.
-  const Result tight = run("estimate " + stack + " -m sun_vector,sun_dolp --max-uncertainty 0.0001");
+  // (sun_dolp declines this stack before its bound: the noisy DoLP departs from Rayleigh's law by
+  // 1.3 % of Pmax, above its calibration's 1 %.)
+  const Result tight = run("estimate " + stack + " -m sun_vector,sun_vector_ephemeris --max-uncertainty 0.0001");
   INFO(tight.out);
   CHECK(tight.code == 2);
   CHECK(count(tight.out, "declined: uncertainty above the bound: 95 % cone") == 2);
