@@ -407,9 +407,8 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   Jackknives jack;
   jack.frames = *frames;
   jack.frame_groups = frame_jackknife_groups(static_cast<int>(stack.frames.size()));
-  if (method == "invariance" && inv_without_sector.empty()) {
-    // The per-frame refinement (frames without times) has no sector jackknife.
-  } else if (has_sector_jackknife(method)) {
+  // invariance's per-frame refinement (frames without times) has no sector jackknife.
+  if (has_sector_jackknife(method) && !(method == "invariance" && inv_without_sector.empty())) {
     // Sectors about the principal point, so that each holds a sixth of the sky (invariance: about
     // its pole, within the window it reads).
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
