@@ -87,6 +87,10 @@ void add_tradeoff(CLI::App& app) {
   cmd->add_option("--methods", a->options.methods,
                   "calibration: run only these methods, comma-separated (and auto over them; default: every method)")
       ->delimiter(',');
+  cmd->add_option("--scenes", a->options.scenes,
+                  "calibration: run only these scenes of the seeded population, comma-separated indices (the CSV's "
+                  "`stack` column; default: all), the same scenes as in the whole run")
+      ->delimiter(',');
   cmd->callback([a] {
     std::vector<const studies::tradeoff::Study*> run;
     for (const studies::tradeoff::Study& s : studies::tradeoff::studies())
@@ -106,6 +110,7 @@ void add_tradeoff(CLI::App& app) {
                                     "; auto always runs)");
       }
     }
+    if (a->study == "all" || a->study == "calibration") studies::tradeoff::check_calibration_scenes(a->options);
     std::filesystem::create_directories(a->options.out_dir);
     const auto t0 = std::chrono::steady_clock::now();
     for (const studies::tradeoff::Study* s : run) {

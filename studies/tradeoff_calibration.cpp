@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
@@ -227,9 +228,20 @@ stack::Stack render_draw(const Draw& d, int binning) {
 
 }  // namespace
 
+int calibration_count(const StudyOptions& o) { return o.count > 0 ? o.count : (o.small ? 6 : 300); }
+
+void check_calibration_scenes(const StudyOptions& o) {
+  const int count = calibration_count(o);
+  for (int k : o.scenes)
+    if (k < 0 || k >= count)
+      throw std::invalid_argument("tradeoff calibration: --scenes " + std::to_string(k) +
+                                  " is not a scene of this run (0 to " + std::to_string(count - 1) + ")");
+}
+
 void study_calibration(const StudyOptions& o) {
   const int binning = o.binning > 0 ? o.binning : o.small ? 16 : 8;
-  const int count = o.count > 0 ? o.count : (o.small ? 6 : 300);
+  const int count = calibration_count(o);
+  check_calibration_scenes(o);
   std::mt19937_64 rng(o.seed);
   Table rows({"stack", "seed", "latitude_deg", "longitude_deg", "date", "window_min", "step_min", "frames",
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "aerosol", "tau_550", "ground_albedo", "cloud",
@@ -259,8 +271,10 @@ void study_calibration(const StudyOptions& o) {
   input.calibrated = !o.uncalibrated;
   input.cloud_gate = !o.no_cloud_gate;
   input.sky_mask = !o.no_sky_mask;
+  const auto chosen = [&](int k) { return o.scenes.empty() || std::ranges::find(o.scenes, k) != o.scenes.end(); };
   for (int k = 0; k < count; ++k) {
-    const Draw d = draw_scene(rng, k);
+    const Draw d = draw_scene(rng, k);  // drawn even when not chosen: the next scenes stay the same
+    if (!chosen(k)) continue;
     const stack::Stack stack = render_draw(d, binning);
     // The cloud gate's measure (skypole/cloud_share.h), written for every row so that its
     // threshold can be read off this table.
@@ -428,9 +442,9 @@ void study_calibration(const StudyOptions& o) {
   for (std::size_t m = 0; m + 1 < methods.size(); ++m) {
     std::vector<double> mine, theirs;
     int method_only = 0, auto_only = 0;
-    for (int k = 0; k < count; ++k) {
-      const Outcome& a = outcomes[static_cast<std::size_t>(k) * methods.size() + m];
-      const Outcome& b = outcomes[static_cast<std::size_t>(k) * methods.size() + auto_index];
+    for (std::size_t k = 0; k < outcomes.size() / methods.size(); ++k) {  // the scenes run
+      const Outcome& a = outcomes[k * methods.size() + m];
+      const Outcome& b = outcomes[k * methods.size() + auto_index];
       if (a.valid && b.valid) {
         mine.push_back(a.error);
         theirs.push_back(b.error);

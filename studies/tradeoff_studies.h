@@ -34,6 +34,11 @@ struct StudyOptions {
   // calibration: run only these methods (and auto over them); empty: every method. To re-measure
   // one method after a change to it without running the others again.
   std::vector<std::string> methods;
+  // calibration: run only these scenes of the seeded population (their indices, the CSV's `stack`
+  // column; each in [0, count), else std::invalid_argument); empty: all. The scenes are the same as
+  // in the whole run: every scene is still drawn, in order, and only these are rendered. To replay
+  // the answers a run found wrong.
+  std::vector<int> scenes;
 };
 
 struct Study {
@@ -53,7 +58,12 @@ void study_noise(const StudyOptions& o);          // exposure (sensor noise) →
 void study_lens_inverse(const StudyOptions& o);   // Newton iterations → round-trip error vs time
 void study_sky_precision(const StudyOptions& o);  // float vs double sky evaluation
 void study_throughput(const StudyOptions& o);     // Mpix/s, MB/s, s/stack and their scaling
-void study_calibration(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
+void study_calibration(const StudyOptions& o);
+// The calibration study's number of scenes for these options (--count, else 300; --small 6), and
+// the check of --scenes against it (std::invalid_argument naming the first index it lacks): the
+// command line checks before it creates the output folder.
+int calibration_count(const StudyOptions& o);
+void check_calibration_scenes(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
 void study_compression(const StudyOptions& o);    // pixel type × compression → size, time, error
 
 }  // namespace skypol::studies::tradeoff

@@ -436,6 +436,41 @@ TEST_CASE("skypol tradeoff calibration --methods: only those methods, and auto o
   }
 }
 
+TEST_CASE("skypol tradeoff calibration --scenes replays chosen scenes of a run, row for row",
+          "[cli][tradeoff][calibration]") {
+  TempDir tmp;
+  const std::string common = "tradeoff calibration --small --count 4 --seed 5 --methods sun_vector --uncalibrated "
+                             "--max-uncertainty inf --out ";
+  const Result whole = run(common + (tmp.path / "whole").string());
+  INFO(whole.out);
+  REQUIRE(whole.code == 0);
+  const Result some = run(common + (tmp.path / "some").string() + " --scenes 3,1");
+  INFO(some.out);
+  REQUIRE(some.code == 0);
+  const Csv w = read_csv(tmp.path / "whole" / "calibration.csv");
+  const Csv r = read_csv(tmp.path / "some" / "calibration.csv");
+  REQUIRE(w.rows.size() == 4 * 2);  // sun_vector and auto
+  REQUIRE(r.rows.size() == 2 * 2);
+  // The same scenes, in the run's order, with the same answers: every column but the run time.
+  for (std::size_t i = 0; i < r.rows.size(); ++i) {
+    const auto& replayed = r.rows[i];
+    const auto& original = w.rows[(i < 2 ? 1 : 3) * 2 + i % 2];
+    CHECK(replayed.at("stack") == (i < 2 ? "1" : "3"));
+    for (const auto& [column, value] : original)
+      if (column != "estimate_s") {
+        INFO(column);
+        CHECK(replayed.at(column) == value);
+      }
+  }
+  CHECK(num(read_csv(tmp.path / "some" / "calibration_summary.csv").rows.at(0), "stacks") == 2);
+  // A scene the run does not have is refused before anything is written.
+  const fs::path never = tmp.path / "never";
+  const Result bad = run(common + never.string() + " --scenes 1,4");
+  CHECK(bad.code == 2);
+  CHECK(bad.out.find("--scenes 4 is not a scene of this run (0 to 3)") != std::string::npos);
+  CHECK(!fs::exists(never));
+}
+
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
   const fs::path& dir = small_report();
   const fs::path md = dir / "benchmarks.md";
