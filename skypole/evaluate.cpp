@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cstdio>
 #include <cmath>
 #include <iomanip>
@@ -360,13 +361,18 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   ClassicParams cl_params;
   cl_params.input = input;
   cl_params.keep_intermediates = classic_images != nullptr;
-  // invariance's answers without each sector of its window about the pole.
-  std::vector<PoleEstimate> inv_without_sector;
+  // The sector jackknife: whether the method has one, and its answer without sector g where the
+  // method refits that from its own work (great_circle, invariance); otherwise it reruns on the
+  // stack with the sector masked.
+  bool sectors = has_sector_jackknife(method);
+  std::function<PoleEstimate(int g)> without_sector;
+  std::vector<PoleEstimate> inv_without_sector;  // invariance's answers without each sector of its window
   PoleEstimate e;
   if (method == "great_circle") {
     gc_params.sectors = kSkySectors;  // its sector jackknife refits the kept crossings
     gc = great_circle_pairs(stack, gc_params);
     e = great_circle_pole(*gc, gc_params).estimate;
+    without_sector = [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; };
   } else if (method == "invariance") {
     InvarianceParams p;
     p.input = input;
@@ -374,6 +380,8 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     InvarianceResult r = estimate_invariance(stack, p);
     e = r.estimate;
     inv_without_sector = std::move(r.without_sector);
+    sectors = !inv_without_sector.empty();  // the per-frame refinement (frames without times) has none
+    without_sector = [&](int g) { return inv_without_sector[static_cast<std::size_t>(g)]; };
   } else if (method == "classic") {
     cl = prepare_classic(stack, cl_params);
     ClassicResult r = classic_from(*cl, cl_params);
@@ -407,19 +415,15 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   Jackknives jack;
   jack.frames = *frames;
   jack.frame_groups = frame_jackknife_groups(static_cast<int>(stack.frames.size()));
-  // invariance's per-frame refinement (frames without times) has no sector jackknife.
-  if (has_sector_jackknife(method) && !(method == "invariance" && inv_without_sector.empty())) {
+  if (sectors) {
     // Sectors about the principal point, so that each holds a sixth of the sky (invariance: about
     // its pole, within the window it reads).
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
-    const auto s =
-        gc ? sector_jackknife(e, gc->sectors,
-                              [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; })
-        : !inv_without_sector.empty()
-            ? sector_jackknife(e, kSkySectors, [&](int g) { return inv_without_sector[static_cast<std::size_t>(g)]; })
-            : sector_jackknife(
-                 e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
-                 Eigen::Vector2d(k.cx, k.cy), kSkySectors);
+    const auto s = without_sector
+                       ? sector_jackknife(e, kSkySectors, without_sector)
+                       : sector_jackknife(
+                             e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
+                             Eigen::Vector2d(k.cx, k.cy), kSkySectors);
     if (!s) return e;
     jack.sectors = *s;
     jack.sector_groups = kSkySectors;

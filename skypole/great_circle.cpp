@@ -21,8 +21,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-// The sun's hour angle advances 360° per solar day.
-constexpr double kHourAngleRate = 2 * kPi / 86400.0;
 
 using Crossing = CircleCrossing;
 

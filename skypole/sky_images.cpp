@@ -320,7 +320,6 @@ std::string hint_against_data(bool hint_north, bool data_north) {
 }  // namespace
 
 double rotation_sense(double seconds_apart) {
-  constexpr double kHourAngleRate = 2 * std::numbers::pi / 86400.0;  // rad/s
   return std::sin(kHourAngleRate * seconds_apart) < 0 ? -1.0 : 1.0;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -81,6 +82,9 @@ struct HemisphereDecision {
   std::string source;       // "sun rotation", "hint", or "sun rotation, overriding the hint: …"
   std::string why;          // when !ok
 };
+
+// The rate of the sun's hour angle, rad/s: 360° per solar day.
+inline constexpr double kHourAngleRate = 2 * std::numbers::pi / 86400.0;
 
 // The sense of the sun's turn from one frame to another `seconds_apart` later, as a sign on the
 // sun-rotation vote: s_i × s_j ∝ −sin Δω·NCP, so a pair more than 12 h of hour angle apart (a
