@@ -440,7 +440,7 @@ SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool t
         const double a = std::atan2(win->dirs[k].dot(u2), win->dirs[k].dot(u1));
         sector[k] = std::clamp(static_cast<int>(std::floor((a + kPi) / (2 * kPi) * sectors)), 0, sectors - 1);
       }
-      const double reach = std::tan(win->radius_rad);
+      const double reach = std::tan(win->radius_rad), px = pixel_angle(sky, out.d);
       for (int g = 0; g < sectors; ++g) {
         std::vector<std::uint8_t> keep(win->dirs.size());
         for (std::size_t k = 0; k < keep.size(); ++k) keep[k] = sector[k] != g;
@@ -448,7 +448,7 @@ SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool t
         sub.keep = &keep;
         double fg = sub.rss(out.d);
         Eigen::Matrix2d hg;
-        const Eigen::Vector2d xg = descend(sub, out.d, pixel_angle(sky, out.d), reach, fg, hg);
+        const Eigen::Vector2d xg = descend(sub, out.d, px, reach, fg, hg);
         if (xg.norm() > 0.5 * reach)
           out.without_sector.emplace_back(std::nullopt);  // left the window: no minimum without g
         else
