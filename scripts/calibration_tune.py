@@ -13,7 +13,8 @@ terms read (residual, window, unpolarized share, ring anisotropy, model misfit, 
 calibration (skypole/evaluate.cpp, method_calibrations()) can be tried here without running
 anything again:
     sigma^2 = lmax(w^2 (a^2 C_frames + b^2 C_sectors)) + floor^2
-              + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2,
+              + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2
+              + (e*sun_elevation_misfit_deg)^2,
 w^2 the widening for the jackknives' few groups (uncertainty.h, few_groups_widening2: the F(2, nu)
 95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of min(frames, 6) - 1 and
 5), declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
@@ -24,7 +25,7 @@ err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] (and, with
 figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
 calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
+pixels, elev, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
 --auto ranked|sharpest|mean|mean_raw: auto returns the agreeing answer of the most accurate method
@@ -85,7 +86,7 @@ def load(paths, replace=()):
         if m == "auto":
             continue
         d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "cf", "cs", "res", "window", "unpol",
-                                               "aniso", "misfit", "pixel", "off", "frames", "sensor", "seed")})
+                                               "aniso", "misfit", "elev", "pixel", "off", "frames", "sensor", "seed")})
         d["stack"].append(int(r["stack"]))
         d["sky"].append(r["sky"])
         v = r["valid"] == "1"
@@ -110,6 +111,7 @@ def load(paths, replace=()):
         d["unpol"].append(fnum(r["unpolarized_share"]))
         d["aniso"].append(fnum(r.get("ring_anisotropy", "0") or "0"))
         d["misfit"].append(fnum(r.get("model_misfit", "0") or "0") if v else 0.0)  # a run before it: 0
+        d["elev"].append(fnum(r.get("sun_elevation_misfit_deg", "0") or "0") if v else 0.0)
         d["pixel"].append(fnum(r["pixel_deg"]))
         d["frames"].append(int(r["frames"]))
         d["sensor"].append(r["sensor"])
@@ -168,7 +170,8 @@ def sigma_of(d, c):
         B = b * b * np.maximum(lmax(*d["cs"].T), 0.0)
         C = C * jackknife_factor2(d, A, B, b)[:, None]
     excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
-    iso = c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
+    iso = (c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
+           + (c.get("elev", 0.0) * d["elev"]) ** 2)
     return np.sqrt(np.maximum(lmax(C[:, 0], C[:, 1], C[:, 2]), 0.0) + iso)
 
 
@@ -214,6 +217,9 @@ def search(m, d, bound):
     # residual 0.014-0.017 deg), neither jackknife sees it and the residual does.
     shares = [0.0, 0.1, 0.25, 0.5] if m != "classic" else [0.25, 0.5, 1.0]
     pixels = [0.0] if m != "classic" else [0, 2, 4, 6]
+    # The elevation term, for the methods that measure one (PoleEstimate::sun_elevation_misfit_deg:
+    # sun_vector_ephemeris' suns against the ephemeris, an error its frames share).
+    elevs = [0.0] if not np.any(d["elev"] > 0) else [0.0, 0.25, 0.5, 1.0, 2.0]
     # Candidate gate thresholds (none, or one of a few round values); each gate's pass mask once.
     # Every method but classic keeps a residual gate: seed 1 cannot show every way a fit fails (a
     # residual of 180° is invariance's unsettled fit; held-out seed 4 held a saturated mono sensor
@@ -239,15 +245,15 @@ def search(m, d, bound):
     ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"], g["max_misfit"])
                            if math.isfinite(x)) + (g["min_window"] > 0) for g in gates])
     err = np.nan_to_num(d["err"], nan=1e9)
-    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels))
+    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs))
     found = []
     chunk = 512
     for start in range(0, len(combos), chunk):
         part = combos[start:start + chunk]
         cone_ok, lie_v, inside_v = [], [], []
-        for f, b, fl, u, sh, px in part:
+        for f, b, fl, u, sh, px, el in part:
             sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px,
-                                 "dof": True})
+                                 "elev": el, "dof": True})
             ok = K95 * sigma <= bound
             cone_ok.append(ok)
             lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
@@ -271,10 +277,11 @@ def search(m, d, bound):
                     bad = (vs >= SKY_MIN_ANSWERS) & (ins < MIN_SKY_COVERAGE * vs)
                     good[g_[bad], j_[bad]] = False
         for g, j in zip(*np.nonzero(good)):
-            f, b, fl, u, sh, px = part[j]
-            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0)
+            f, b, fl, u, sh, px, el = part[j]
+            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0)
             found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
-                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "dof": True,
+                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "elev": el,
+                           "dof": True,
                            **gates[g]}))
     if not found:
         return None

@@ -105,6 +105,13 @@ struct PoleEstimate {
   // fitted Pmax, the median over frames: a multiply scattering sky's DoLP is not Rayleigh's law).
   // 0: not measured. A diagnostic the calibration's gates read (evaluate.h).
   double model_misfit = 0;
+  // An error of the method's own measurements that its data reveal but neither jackknife resolves,
+  // as a shift of the pole in the tangent plane, degrees (sun_vector_ephemeris: its suns' elevations
+  // against the ephemeris' — the heading rests on the suns' azimuths alone, so an error the frames
+  // share along the azimuth moves the answer and leaves the residual small, while the same error
+  // along the elevation shows: rms over frames of Δelevation/cos(elevation), times cos(pole
+  // altitude); sun_vector.h). 0: not measured. A per-answer σ term of the calibration (evaluate.h).
+  double sun_elevation_misfit_deg = 0;
   // The uncertainty, one meaning for every method (skypole/uncertainty.h): 1-σ of the bearing and
   // of the latitude, the radius of the 95 % cone about pole_camera on the sphere, and σ = √λmax of
   // the tangent-plane covariance, all in degrees. Set by run_method(); 0 = not measured (a method

@@ -437,7 +437,8 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     const double unpolarized =
         cal.unpolarized_deg > 0 ? unpolarized_share(prepare_sky_images(stack, input, 1, e.method)) : 0.0;
     const double floor = std::sqrt(cal.floor_deg * cal.floor_deg + std::pow(cal.residual_share * residual_excess, 2) +
-                                   std::pow(cal.unpolarized_deg * unpolarized, 2));
+                                   std::pow(cal.unpolarized_deg * unpolarized, 2) +
+                                   std::pow(cal.elevation_share * e.sun_elevation_misfit_deg, 2));
     set_calibrated_uncertainty(e, jack, cal.inflation, cal.sector_inflation, floor);
   } else {
     // Uncalibrated (what the calibration study measures the factors from): both jackknives as

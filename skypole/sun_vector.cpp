@@ -1,6 +1,7 @@
 // Sun from AoLP, pole from the sun's path or from the ephemeris (sun_vector.h).
 #include "skypole/sun_vector.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -244,10 +245,19 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
     const double psi = std::atan2(sy, sx);  // world = Rz(−ψ)·level
     const Eigen::Matrix3d world_from_level =
         Eigen::AngleAxisd(-psi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // The elevation misfit: the heading takes only the suns' azimuths, so an error every frame's sun
+    // shares along the azimuth (the colour sensor's demosaicked AoLP under cloud) moves the answer
+    // while the residual about the mean heading stays small; the same kind of error along the
+    // elevation, which no heading absorbs, shows its size. Across the sun at elevation e, a step d
+    // turns its azimuth by d/cos e (capped at 90°: a sun at the zenith has no azimuth).
+    double elevation_sq = 0;
     for (std::size_t t = 0; t < sky.frames(); ++t) {
       const Eigen::Vector3d w = world_from_level * sky.level_from_camera * result.suns_camera[t];
       const double a = std::atan2(w.cross(enu[t]).norm(), w.dot(enu[t]));
       sq += a * a;
+      const double de = std::asin(std::clamp(w.z(), -1.0, 1.0)) - std::asin(std::clamp(enu[t].z(), -1.0, 1.0));
+      const double turn = std::min(std::abs(de) / std::max(std::hypot(enu[t].x(), enu[t].y()), 1e-9), kPi / 2);
+      elevation_sq += turn * turn;
     }
     const double lat = site.latitude_deg * kDeg;
     const Eigen::Vector3d ncp_world(0, std::cos(lat), std::sin(lat));
@@ -256,6 +266,9 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
     result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                             std::string("ephemeris mode: latitude is the given site's");
     result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kDeg;
+    // A heading error h moves the pole by h·cos(its altitude) in the tangent plane.
+    result.estimate.sun_elevation_misfit_deg =
+        std::sqrt(elevation_sq / static_cast<double>(sky.frames())) * std::cos(lat) / kDeg;
     if (params.source == SunSource::dolp) result.estimate.model_misfit = quantile(misfit, 0.5);
     result.estimate.seconds = seconds();
     return result;

@@ -247,7 +247,7 @@ void study_calibration(const StudyOptions& o) {
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "aerosol", "tau_550", "ground_albedo", "cloud",
               "sensor", "exposure_us", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
-              "inside_cone", "lie", "residual_deg", "model_misfit", "unpolarized_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
+              "inside_cone", "lie", "residual_deg", "model_misfit", "sun_elevation_misfit_deg", "unpolarized_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
               "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
               "sectors_aa_deg2", "sectors_ab_deg2", "sectors_bb_deg2", "estimate_s"});
   // One record per (scene, method), summarised per method and per method and sky model.
@@ -351,6 +351,7 @@ void study_calibration(const StudyOptions& o) {
           .set("lie", lie)
           .set("residual_deg", e.residual_deg)
           .set("model_misfit", e.model_misfit)
+          .set("sun_elevation_misfit_deg", e.sun_elevation_misfit_deg)
           .set("pole_x", e.pole_level.x())
           .set("pole_y", e.pole_level.y())
           .set("pole_z", e.pole_level.z())

@@ -7,10 +7,13 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/sun.h"
 #include "skypole/sun_vector.h"
 #include "synthetic_stack.h"
 
 using namespace skypol;
+
+constexpr double kDegT = 3.14159265358979323846 / 180.0;
 
 namespace {
 
@@ -61,6 +64,36 @@ TEST_CASE("sun-vector circle and ephemeris modes find the pole", "[skypole][sun_
     CHECK(std::abs(*e.bearing_error_deg) < 0.05);
     CHECK(e.latitude_error_deg == Approx(0).margin(1e-9));  // the site is given
   }
+}
+
+// The ephemeris mode's elevation misfit (estimate.h, sun_elevation_misfit_deg): the suns'
+// elevations against the ephemeris', as the heading error they would make across the sun. A clear
+// stack reads ≈ 0; told a site 1° too far north, every sun stands lower than the ephemeris says, and
+// the misfit is what the ephemeris computes for the two sites: rms of Δe/cos e, times cos(latitude).
+TEST_CASE("sun_vector_ephemeris measures its suns' elevations against the ephemeris", "[skypole][sun_vector][elevation]") {
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
+  skypole::SunVectorParams p;
+  p.mode = skypole::PoleFromSun::ephemeris;
+  skypole::SunVectorResult r;
+  run(stack, p, "ephemeris, true site", &r);
+  std::cout << "  elevation misfit " << r.estimate.sun_elevation_misfit_deg << "°\n";
+  CHECK(r.estimate.sun_elevation_misfit_deg < 0.01);
+
+  sky::Site wrong = stack.frames.front().truth.site;
+  wrong.latitude_deg += 1.0;
+  p.site = wrong;
+  run(stack, p, "ephemeris, site 1° north", &r);
+  double sq = 0;
+  for (const stack::Frame& f : stack.frames) {
+    const double e_true = f.truth.sun.elevation;
+    const double e_told = sky::sun_position(wrong, f.truth.time).elevation;
+    sq += std::pow((e_true - e_told) / std::cos(e_told), 2);
+  }
+  const double expected =
+      std::sqrt(sq / static_cast<double>(stack.frames.size())) * std::cos(wrong.latitude_deg * kDegT) / kDegT;
+  std::cout << "  elevation misfit " << r.estimate.sun_elevation_misfit_deg << "°, expected " << expected << "°\n";
+  CHECK(expected > 0.5);  // the paper's day: 0.7–1° lower from morning to noon
+  CHECK(r.estimate.sun_elevation_misfit_deg == Approx(expected).margin(0.01));
 }
 
 TEST_CASE("sun-vector in the south and without AoLP", "[skypole][sun_vector]") {
