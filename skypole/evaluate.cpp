@@ -372,6 +372,10 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     gc_params.sectors = kSkySectors;  // its sector jackknife refits the kept crossings
     gc = great_circle_pairs(stack, gc_params);
     e = great_circle_pole(*gc, gc_params).estimate;
+    // Its great circles need DoLP to be a function of the angle to the sun alone, which a sky far
+    // from Rayleigh's law need not be (a multiply scattering sky's DoLP also falls towards the
+    // horizon, and bends the circles alike in every frame and sector): measured for its gate.
+    if (e.valid) e.model_misfit = rayleigh_law_misfit(stack, input);
     without_sector = [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; };
   } else if (method == "invariance") {
     InvarianceParams p;

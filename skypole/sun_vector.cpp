@@ -173,21 +173,48 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
   return s;
 }
 
+RayleighFits fit_rayleigh_law(SkyImages& sky, const stack::Stack& stack, bool sky_mask) {
+  RayleighFits f;
+  // The fits start at the lowest DoLP of the unmasked sky, or better at the suns the mask judged
+  // by: a cloud over the sun would leave the masked sky without a sun-like minimum.
+  f.starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
+  if (sky_mask) {
+    const SkyMask mask = apply_sky_mask(sky, stack);
+    for (std::size_t t = 0; t < f.starts.size(); ++t)
+      if (mask.suns[t]) f.starts[t] = mask.suns[t];
+  }
+  f.suns.resize(sky.frames());
+  f.rms.assign(sky.frames(), 1.0);
+  f.misfit.assign(sky.frames(), 0.0);
+  tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
+    if (!f.starts[t]) return;
+    double pmax = 0;
+    f.suns[t] = sun_from_dolp(sky, sky.dolp[t], *f.starts[t], &pmax, &f.rms[t], sky_mask);
+    const double noise = dolp_noise_rms(sky, sky.dolp[t]);
+    if (f.suns[t] && pmax > 0) f.misfit[t] = std::sqrt(std::max(0.0, f.rms[t] * f.rms[t] - noise * noise)) / pmax;
+  });
+  return f;
+}
+
+double rayleigh_law_misfit(const stack::Stack& stack, const InputOptions& input) {
+  SkyImages sky = prepare_sky_images(stack, input, 1, "rayleigh_law_misfit");
+  const RayleighFits f = fit_rayleigh_law(sky, stack, input.sky_mask);
+  std::vector<double> fitted;
+  for (std::size_t t = 0; t < f.suns.size(); ++t)
+    if (f.suns[t]) fitted.push_back(f.misfit[t]);
+  return fitted.empty() ? 1.0 : quantile(fitted, 0.5);
+}
+
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
   SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
-  // The Rayleigh fits start at the lowest DoLP of the unmasked sky, or better at the suns the mask
-  // judged by: a cloud over the sun would leave the masked sky without a sun-like minimum.
-  std::vector<std::optional<Eigen::Vector3d>> starts;
+  RayleighFits fits;  // SunSource::dolp's suns (it masks the sky as it fits)
   if (params.source == SunSource::dolp)
-    starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
-  if (params.input.sky_mask) {
-    const SkyMask mask = apply_sky_mask(sky, stack);
-    for (std::size_t t = 0; t < starts.size(); ++t)
-      if (mask.suns[t]) starts[t] = mask.suns[t];
-  }
+    fits = fit_rayleigh_law(sky, stack, params.input.sky_mask);
+  else if (params.input.sky_mask)
+    apply_sky_mask(sky, stack);
   const auto aolp = params.source == SunSource::aolp ? aolp_channels(stack, sky, method)
                                                      : std::vector<std::vector<float>>{};
   SunVectorResult result;
@@ -201,27 +228,23 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   };
 
   // Each frame's sun on its own (in parallel); the first failing frame is reported.
-  std::vector<std::optional<Eigen::Vector3d>> suns(sky.frames());
-  std::vector<double> quality(sky.frames(), 1.0);
-  std::vector<double> misfit(sky.frames(), 0.0);  // dolp: the residual beyond the noise, over Pmax
-  tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
-    if (params.source == SunSource::aolp) {
+  std::vector<std::optional<Eigen::Vector3d>> suns = fits.suns;
+  std::vector<double> quality = fits.rms;
+  const std::vector<double>& misfit = fits.misfit;
+  if (params.source == SunSource::aolp) {
+    suns.resize(sky.frames());
+    quality.assign(sky.frames(), 1.0);
+    tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
       suns[t] = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &quality[t],
                               params.input.sky_mask);
-    } else if (starts[t]) {
-      double pmax = 0;
-      suns[t] = sun_from_dolp(sky, sky.dolp[t], *starts[t], &pmax, &quality[t], params.input.sky_mask);
-      const double noise = dolp_noise_rms(sky, sky.dolp[t]);
-      if (suns[t] && pmax > 0)
-        misfit[t] = std::sqrt(std::max(0.0, quality[t] * quality[t] - noise * noise)) / pmax;
-    }
-  });
+    });
+  }
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     if (!suns[t]) {
       if (params.source == SunSource::aolp)
         return fail("frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
                     std::to_string(params.min_dolp) + ") to find the sun from the AoLP");
-      if (!starts[t])
+      if (!fits.starts[t])
         return fail("frame " + std::to_string(t) + " shows no sun-like DoLP minimum above the "
                     "horizon to start the Rayleigh fit from");
       return fail("the Rayleigh fit of frame " + std::to_string(t) + " failed");

@@ -84,6 +84,22 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
                                              const Eigen::Vector3d& start, double* pmax = nullptr,
                                              double* rms = nullptr, bool robust = true);
 
+// sun_dolp's per-frame Rayleigh fits of `sky` (masked first when sky_mask, as estimate_sun_vector
+// does): where each fit started (nullopt: no sun-like DoLP minimum above the horizon), the sun it
+// found (nullopt: it failed), its DoLP rms residual, and the misfit: the residual beyond the image's
+// noise (dolp_noise_rms) as a share of the fitted Pmax (PoleEstimate::model_misfit).
+struct RayleighFits {
+  std::vector<std::optional<Eigen::Vector3d>> starts, suns;
+  std::vector<double> rms, misfit;
+};
+RayleighFits fit_rayleigh_law(SkyImages& sky, const stack::Stack& stack, bool sky_mask);
+
+// How far the stack's sky departs from Rayleigh's law: the median misfit over the frames whose fit
+// succeeded (1 when none did: nothing like the law). sun_dolp's own model check, measured for a
+// method that assumes what the law implies, that DoLP is a function of the angle to the sun alone
+// (great_circle's equal-DoLP great circles), so that its calibration can gate on it.
+double rayleigh_law_misfit(const stack::Stack& stack, const InputOptions& input);
+
 // SunSource::aolp needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params = {});
 
