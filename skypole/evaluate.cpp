@@ -244,17 +244,26 @@ const std::vector<MethodCalibration>& method_calibrations() {
   // Stokes, the solvers' tolerances: its errors are 1e-6–1e-4°); a method with a sector jackknife
   // counts it. invariance and sun_dolp were retuned after seed 7 (it lied there once each) on seeds
   // 1 and 3–7 pooled (2,000 scenes), also requiring 80 % coverage of every sky model with 10 answers
-  // or more (`--min-sky-coverage 0.8`); seed 8 is held out (section 7c).
-  //  - sun_vector_ephemeris: ×0.5 frames, ×0.25 sectors, floor 0.0001°, 0.3° × the unpolarized
-  //    share, residual ≤ 1° (a saturated sensor's fit), at most half the sky unpolarized.
+  // or more (`--min-sky-coverage 0.8`); seed 8 was held out (section 7c). sun_vector_ephemeris was
+  // retuned after seed 8 (it lied there once: a shared azimuth error of its suns under cloud) on
+  // seeds 1 and 3–8 pooled (2,300 scenes), the same rules, with its elevation term; seed 9 is held
+  // out for it, seed 10 for every method (section 7d).
+  //  - sun_vector_ephemeris: ×0.5 frames, ×0.25 sectors, floor 0.0003°, 0.25 × its suns'
+  //    elevation misfit (PoleEstimate::sun_elevation_misfit_deg), residual ≤ 5° (a saturated
+  //    sensor's fit), at most 30 % of the sky unpolarized.
   //  - sun_vector: ×0.5, ×0.25, floor 0.7°, residual ≤ 5°.
   //  - sun_dolp: ×0.5, ×0.5, floor 0.03°, residual ≤ 5°, model misfit ≤ 0.01 (its Rayleigh law
   //    fits within 1 % of Pmax beyond the noise: clear Rayleigh skies read 0–0.002, Berry's and
   //    vrte's 0.014–0.12, where its answers were 2.5–4° off at a coverage of 0.66). Chosen over the
   //    search's pick, which kept 8 vrte answers at a coverage of 0.63, below the rule's 10 answers.
-  //  - great_circle: ×0.5, ×0.25, floor 0.03°, residual ≤ 5°, a window of at least 60 min, ring
-  //    anisotropy ≤ 0.2 (its equal-DoLP sets are great circles only where DoLP is a function of the
-  //    angle to the sun).
+  //  - great_circle: ×0.5, ×0.25, floor 0.025°, 0.5° × the unpolarized share, residual ≤ 5°, a
+  //    window of at least 60 min, Rayleigh-law misfit ≤ 0.01 (its equal-DoLP sets are great circles
+  //    only where DoLP is a function of the angle to the sun; held-out seed 9 caught it 4.6° off at
+  //    σ 0.65° on a clear vrte sky whose ring anisotropy, 0.10, passed the gate it had). Retuned on
+  //    seeds 1 and 3–9 pooled (2,600 scenes) with sun_dolp's misfit threshold; the search kept 0.02
+  //    and a floor of 0.03°, which answers twice on vrte skies (one of them 2.9° off, coverage 0.5,
+  //    below the per-sky rule's 10 answers), and the floor between the grid's 0.01° and 0.03° brings
+  //    the coverage of the 0.01 gate to the band's middle (0.968; 0.03°: 0.982). Seed 10 is held out.
   //  - invariance: ×0.75 frames, ×1.5 sectors (its own, about the pole: invariance.h), floor 0.4°,
   //    residual ≤ 5°.
   //  - classic: ×6, its residual beyond 6 pixel angles a quarter counted, 2° × the unpolarized share,
@@ -263,14 +272,14 @@ const std::vector<MethodCalibration>& method_calibrations() {
   static const std::vector<MethodCalibration> c = {
       {.method = "classic", .inflation = 6.0, .floor_deg = 0.0, .residual_share = 0.25,
        .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .unpolarized_deg = 2.0},
-      {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0, .min_window_min = 60.0,
-       .max_ring_anisotropy = 0.2, .sector_inflation = 0.25},
+      {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.025, .max_residual_deg = 5.0, .min_window_min = 60.0,
+       .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 0.5},
       {.method = "invariance", .inflation = 0.75, .floor_deg = 0.4, .max_residual_deg = 5.0,
        .sector_inflation = 1.5},
       {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.7, .max_residual_deg = 5.0,
        .sector_inflation = 0.25},
-      {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0001, .max_residual_deg = 1.0,
-       .max_unpolarized_share = 0.5, .sector_inflation = 0.25, .unpolarized_deg = 0.3},
+      {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0003, .max_residual_deg = 5.0,
+       .max_unpolarized_share = 0.3, .sector_inflation = 0.25, .elevation_share = 0.25},
       {.method = "sun_dolp", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0,
        .max_model_misfit = 0.01, .sector_inflation = 0.5},
   };
