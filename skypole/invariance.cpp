@@ -213,6 +213,20 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
     hemi.source = "the sense the sky's pattern turns in (co-rotating fit)";
   }
   if (!hemi.ok) return fail(hemi.why);
+  if (hemi.source == "sun rotation" && sp.sense != 0 && sp.sense_contrast >= kMinSenseContrast &&
+      (sp.sense < 0) != hemi.is_north) {
+    // Two witnesses of the same rotation disagree. The suns here are the lowest DoLP above the
+    // horizon, which a sky with neutral points apart from the sun (Berry's, a multiply scattering
+    // one) can place on a neutral point instead; the co-rotating fit saw the whole pattern turn the
+    // other way. Held-out seed 10: a clear Berry sky at 57°S, the SCP reported as the NCP, 179° off.
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "cannot tell north from south: the suns found in the frames (lowest DoLP) turn about the "
+                  "axis as about the %s, the sky's pattern as about the %s (it fits %.1f× better than the "
+                  "other sense); a neutral point may have been taken for the sun; pass hemisphere = north or south",
+                  hemi.is_north ? "NCP" : "SCP", hemi.is_north ? "SCP" : "NCP", sp.sense_contrast);
+    return fail(buf);
+  }
   result.estimate = make_estimate(method, sky, hemi.is_north ? sp.d : Eigen::Vector3d(-sp.d), params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + hemi.source;
