@@ -247,11 +247,13 @@ const std::vector<MethodCalibration>& method_calibrations() {
   // or more (`--min-sky-coverage 0.8`); seed 8 was held out (section 7c). sun_vector_ephemeris was
   // retuned after seed 8 (it lied there once: a shared azimuth error of its suns under cloud) on
   // seeds 1 and 3–8 pooled (2,300 scenes), the same rules, with its elevation term; seed 9 is held
-  // out for it, seed 10 for every method (section 7d).
+  // out for it, seed 11 for every method (section 7d).
   //  - sun_vector_ephemeris: ×0.5 frames, ×0.25 sectors, floor 0.0003°, 0.25 × its suns'
   //    elevation misfit (PoleEstimate::sun_elevation_misfit_deg), residual ≤ 5° (a saturated
   //    sensor's fit), at most 30 % of the sky unpolarized.
-  //  - sun_vector: ×0.5, ×0.25, floor 0.7°, residual ≤ 5°.
+  //  - sun_vector: ×0.5, ×0.25, floor 0.7°, residual ≤ 0.1° (retuned on seeds 1 and 3–10, 2,900
+  //    scenes, after held-out seed 10 caught it 4.65° off at σ 0.90° on a cloudy Berry sky through
+  //    the colour sensor, residual 0.12°; the search's pick, 879 answers instead of 887).
   //  - sun_dolp: ×0.5, ×0.5, floor 0.03°, residual ≤ 5°, model misfit ≤ 0.01 (its Rayleigh law
   //    fits within 1 % of Pmax beyond the noise: clear Rayleigh skies read 0–0.002, Berry's and
   //    vrte's 0.014–0.12, where its answers were 2.5–4° off at a coverage of 0.66). Chosen over the
@@ -263,7 +265,7 @@ const std::vector<MethodCalibration>& method_calibrations() {
   //    seeds 1 and 3–9 pooled (2,600 scenes) with sun_dolp's misfit threshold; the search kept 0.02
   //    and a floor of 0.03°, which answers twice on vrte skies (one of them 2.9° off, coverage 0.5,
   //    below the per-sky rule's 10 answers), and the floor between the grid's 0.01° and 0.03° brings
-  //    the coverage of the 0.01 gate to the band's middle (0.968; 0.03°: 0.982). Seed 10 is held out.
+  //    the coverage of the 0.01 gate to the band's middle (0.968; 0.03°: 0.982).
   //  - invariance: ×0.75 frames, ×1.5 sectors (its own, about the pole: invariance.h), floor 0.4°,
   //    residual ≤ 5°.
   //  - classic: ×6, its residual beyond 6 pixel angles a quarter counted, 2° × the unpolarized share,
@@ -276,7 +278,7 @@ const std::vector<MethodCalibration>& method_calibrations() {
        .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 0.5},
       {.method = "invariance", .inflation = 0.75, .floor_deg = 0.4, .max_residual_deg = 5.0,
        .sector_inflation = 1.5},
-      {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.7, .max_residual_deg = 5.0,
+      {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.7, .max_residual_deg = 0.1,
        .sector_inflation = 0.25},
       {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0003, .max_residual_deg = 5.0,
        .max_unpolarized_share = 0.3, .sector_inflation = 0.25, .elevation_share = 0.25},
