@@ -103,14 +103,15 @@ struct PoleEstimate {
   // How far the sky departs from the method's model of it, as the method measures it (sun_dolp:
   // the rms of its Rayleigh fit's DoLP residual beyond the images' own noise, as a share of the
   // fitted Pmax, the median over frames: a multiply scattering sky's DoLP is not Rayleigh's law;
-  // great_circle: the same, measured for it by sun_vector.h rayleigh_law_misfit). 0: not measured. A diagnostic the calibration's gates read (evaluate.h).
+  // great_circle: the same, measured for it by sun_vector.h rayleigh_law_misfit). 0: not
+  // measured. A diagnostic the calibration's gates read (evaluate.h).
   double model_misfit = 0;
   // An error of the method's own measurements that its data reveal but neither jackknife resolves,
   // as a shift of the pole in the tangent plane, degrees (sun_vector_ephemeris: its suns' elevations
   // against the ephemeris' — the heading rests on the suns' azimuths alone, so an error the frames
   // share along the azimuth moves the answer and leaves the residual small, while the same error
-  // along the elevation shows: rms over frames of Δelevation/cos(elevation), times cos(pole
-  // altitude); sun_vector.h). 0: not measured. A per-answer σ term of the calibration (evaluate.h).
+  // along the elevation shows: rms over frames of Δelevation/cos(elevation), times cos(latitude),
+  // the pole's altitude; sun_vector.cpp). 0: not measured. A per-answer σ term of the calibration (evaluate.h).
   double sun_elevation_misfit_deg = 0;
   // The uncertainty, one meaning for every method (skypole/uncertainty.h): 1-σ of the bearing and
   // of the latitude, the radius of the 95 % cone about pole_camera on the sphere, and σ = √λmax of
