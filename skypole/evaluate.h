@@ -51,7 +51,7 @@ const std::vector<std::string>& auto_rank();
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seeds 1, 3,
 // 4, 5 and 6 pooled, 1 and 3–7 for invariance and sun_dolp, 1 and 3–8 for sun_vector_ephemeris,
-// 1 and 3–9 for great_circle, 1 and 3–10 for sun_vector (docs/benchmarks.md, sections 7a, 7c
+// 1 and 3–9 for great_circle, 1 and 3–11 for sun_vector (docs/benchmarks.md, sections 7a, 7c
 // and 7d). The stated covariance is
 //     C = w²·(inflation²·C_frames + sector_inflation²·C_sectors) + s²·I,
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)

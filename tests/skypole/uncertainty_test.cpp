@@ -167,17 +167,21 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
     // declines it for the window, with the numbers; uncalibrated, the gates do not apply.
     spec.times = testing::times_every("2022-09-23T10:00:00Z", "2022-09-23T10:40:00Z", 10);
     const stack::Stack stack = testing::make_stack(spec);
-    skypole::PoleEstimate sv = skypole::run_method(stack, "sun_vector");
+    skypole::InputOptions uncalibrated;
+    uncalibrated.calibrated = false;
+    skypole::PoleEstimate sv = skypole::run_method(stack, "sun_vector", uncalibrated);
     REQUIRE(sv.valid);
+    skypole::PoleEstimate raw = sv;
     const skypole::MethodCalibration c{.method = "sun_vector", .min_window_min = 120};
     skypole::apply_calibration_gates(sv, c, stack, {});
     CHECK_FALSE(sv.valid);
     CHECK_THAT(sv.why_invalid, Catch::Contains("window (40 min) is shorter than the 120 min"));
-    skypole::PoleEstimate raw = skypole::run_method(stack, "sun_vector");
-    skypole::InputOptions uncalibrated;
-    uncalibrated.calibrated = false;
     skypole::apply_calibration_gates(raw, c, stack, uncalibrated);
     CHECK(raw.valid);
+    // The committed calibration's own window gate (60 min, evaluate.cpp) says the same.
+    const skypole::PoleEstimate committed = skypole::run_method(stack, "sun_vector");
+    CHECK_FALSE(committed.valid);
+    CHECK_THAT(committed.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
   }
   SECTION("a short noisy window: the jackknife sees the answer move and the cone is wide or the method declines") {
     spec.times = testing::times_every("2022-09-23T11:00:00Z", "2022-09-23T11:20:00Z", 5);
