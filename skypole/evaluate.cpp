@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <functional>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <iomanip>
 #include <optional>
 #include <sstream>

@@ -58,12 +58,12 @@ void study_noise(const StudyOptions& o);          // exposure (sensor noise) →
 void study_lens_inverse(const StudyOptions& o);   // Newton iterations → round-trip error vs time
 void study_sky_precision(const StudyOptions& o);  // float vs double sky evaluation
 void study_throughput(const StudyOptions& o);     // Mpix/s, MB/s, s/stack and their scaling
-void study_calibration(const StudyOptions& o);
+void study_calibration(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
 // The calibration study's number of scenes for these options (--count, else 300; --small 6), and
 // the check of --scenes against it (std::invalid_argument naming the first index it lacks): the
 // command line checks before it creates the output folder.
 int calibration_count(const StudyOptions& o);
-void check_calibration_scenes(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
+void check_calibration_scenes(const StudyOptions& o);
 void study_compression(const StudyOptions& o);    // pixel type × compression → size, time, error
 
 }  // namespace skypol::studies::tradeoff
