@@ -86,6 +86,42 @@ std::string_view detrend_name(Detrend d) { return enum_name(kDetrendNames, d); }
 Refine parse_refine(std::string_view name) { return enum_from_name(kRefineNames, name, "refine"); }
 std::string_view refine_name(Refine r) { return enum_name(kRefineNames, r); }
 
+HemisphereDecision reconcile_hemisphere(HemisphereDecision suns, int pattern_sense, double pattern_contrast,
+                                        double min_contrast, Hemisphere hint) {
+  const bool pattern_speaks = pattern_sense != 0 && pattern_contrast >= min_contrast;
+  const bool pattern_north = pattern_sense < 0;
+  if (!pattern_speaks) return suns;
+  if (!suns.ok) {
+    // The suns alone could not tell (too few in view, or too little motion between them): the
+    // co-rotating fit saw the whole pattern turn, clockwise about the NCP.
+    HemisphereDecision d;
+    d.ok = true;
+    d.is_north = pattern_north;
+    d.source = "the sense the sky's pattern turns in (co-rotating fit)";
+    return d;
+  }
+  if (!suns.from_suns || pattern_north == suns.is_north) return suns;
+  if (hint != Hemisphere::automatic) {
+    // The suns overrode the hint, and the whole pattern sides with it: two against one.
+    HemisphereDecision d;
+    d.ok = true;
+    d.is_north = pattern_north;
+    d.source = std::string("hint: hemisphere = ") + (pattern_north ? "north" : "south") +
+               " was given and the sky's pattern turns as it says (co-rotating fit), though the suns found "
+               "in the frames (lowest DoLP) turn the other way; a neutral point may have been taken for the sun";
+    return d;
+  }
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "cannot tell north from south: the suns found in the frames (lowest DoLP) turn about the "
+                "axis as about the %s, the sky's pattern as about the %s (it fits %.1f× better than the "
+                "other sense); a neutral point may have been taken for the sun; pass hemisphere = north or south",
+                suns.is_north ? "NCP" : "SCP", suns.is_north ? "SCP" : "NCP", pattern_contrast);
+  HemisphereDecision d;
+  d.why = buf;
+  return d;
+}
+
 InvarianceResult estimate_invariance(const stack::Stack& stack, const InvarianceParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "invariance";
@@ -205,28 +241,9 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   // Which end: the minimum is above the horizon; the sun's rotation says if it is the NCP.
   HemisphereDecision hemi = decide_hemisphere(suns, sp.d, params.input.hemisphere,
                                               sky.times_known ? sky.times_s : std::vector<double>{});
-  if (!hemi.ok && sp.sense != 0 && sp.sense_contrast >= kMinSenseContrast) {
-    // The sun alone could not tell (too few suns in view, or too little motion between them):
-    // the co-rotating fit saw the whole pattern turn, clockwise about the NCP.
-    hemi.ok = true;
-    hemi.is_north = sp.sense < 0;
-    hemi.source = "the sense the sky's pattern turns in (co-rotating fit)";
-  }
+  hemi = reconcile_hemisphere(std::move(hemi), sp.sense, sp.sense_contrast, kMinSenseContrast,
+                              params.input.hemisphere);
   if (!hemi.ok) return fail(hemi.why);
-  if (hemi.source == "sun rotation" && sp.sense != 0 && sp.sense_contrast >= kMinSenseContrast &&
-      (sp.sense < 0) != hemi.is_north) {
-    // Two witnesses of the same rotation disagree. The suns here are the lowest DoLP above the
-    // horizon, which a sky with neutral points apart from the sun (Berry's, a multiply scattering
-    // one) can place on a neutral point instead; the co-rotating fit saw the whole pattern turn the
-    // other way. Held-out seed 10: a clear Berry sky at 57°S, the SCP reported as the NCP, 179° off.
-    char buf[320];
-    std::snprintf(buf, sizeof buf,
-                  "cannot tell north from south: the suns found in the frames (lowest DoLP) turn about the "
-                  "axis as about the %s, the sky's pattern as about the %s (it fits %.1f× better than the "
-                  "other sense); a neutral point may have been taken for the sun; pass hemisphere = north or south",
-                  hemi.is_north ? "NCP" : "SCP", hemi.is_north ? "SCP" : "NCP", sp.sense_contrast);
-    return fail(buf);
-  }
   result.estimate = make_estimate(method, sky, hemi.is_north ? sp.d : Eigen::Vector3d(-sp.d), params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + hemi.source;

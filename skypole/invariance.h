@@ -98,6 +98,20 @@ struct InvarianceResult {
   double rotation_sense_contrast = 0;
 };
 
+// Which end of the axis is the NCP, from two witnesses of the sky's rotation: `suns`, the suns'
+// turn (decide_hemisphere, with the user's hint), and the co-rotating fit's sense (pattern_sense:
+// −1 NCP, +1 SCP, 0 none; it speaks when the other sense fits at least min_contrast times worse).
+// The suns here are the lowest DoLP above the horizon, which a sky with neutral points apart from
+// the sun (Berry's, a multiply scattering one) can place on a neutral point (held-out seed 10: a
+// clear Berry sky at 57°S, the SCP reported as the NCP, 179° off); the pattern is the whole sky.
+//  - the suns cannot tell: the pattern decides;
+//  - the suns decided without a hint and the pattern says the other end: declined (!ok, `why`);
+//  - the suns overrode the user's hint and the pattern sides with the hint: the hint stands, and
+//    `source` says why;
+//  - otherwise `suns` stands.
+HemisphereDecision reconcile_hemisphere(HemisphereDecision suns, int pattern_sense, double pattern_contrast,
+                                        double min_contrast, Hemisphere hint);
+
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
 InvarianceResult estimate_invariance(const stack::Stack& stack, const InvarianceParams& params = {});
 

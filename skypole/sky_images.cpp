@@ -339,6 +339,7 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
     if (seen && std::abs(v.vote) >= kDecisiveVote * v.total && (v.vote < 0) != d.is_north) {
       d.source = hint_against_data(d.is_north, v.vote < 0);
       d.is_north = v.vote < 0;
+      d.from_suns = true;
     }
     return d;
   }
@@ -367,6 +368,7 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
   }
   d.ok = true;
   d.is_north = v.vote < 0;
+  d.from_suns = true;
   return d;
 }
 

@@ -81,6 +81,7 @@ struct HemisphereDecision {
   bool is_north = true;     // the given axis direction is the NCP (true) or the SCP (false)
   std::string source;       // "sun rotation", "hint", or "sun rotation, overriding the hint: …"
   std::string why;          // when !ok
+  bool from_suns = false;   // the suns' rotation decided (without a hint, or against it)
 };
 
 // The rate of the sun's hour angle, rad/s: 360° per solar day.

@@ -182,3 +182,57 @@ TEST_CASE("invariance tells north from the pattern's rotation when the sun canno
   INFO(r.estimate.note);
   CHECK(r.estimate.note.find("hemisphere from") != std::string::npos);
 }
+
+TEST_CASE("invariance's two witnesses of the rotation: the suns and the sky's pattern", "[skypole][invariance]") {
+  using skypole::Hemisphere;
+  using skypole::HemisphereDecision;
+  const auto suns = [](bool ok, bool north, bool from_suns, std::string source) {
+    HemisphereDecision d;
+    d.ok = ok;
+    d.is_north = north;
+    d.from_suns = from_suns;
+    d.source = std::move(source);
+    if (!ok) d.why = "the suns cannot tell";
+    return d;
+  };
+  const HemisphereDecision by_suns_north = suns(true, true, true, "sun rotation");
+  SECTION("a pattern that fits barely better one way does not speak") {
+    const auto d = skypole::reconcile_hemisphere(by_suns_north, +1, 1.5, 2.0, Hemisphere::automatic);
+    CHECK(d.ok);
+    CHECK(d.is_north);
+    CHECK(d.source == "sun rotation");
+  }
+  SECTION("agreeing witnesses: the suns' decision stands") {
+    const auto d = skypole::reconcile_hemisphere(by_suns_north, -1, 30.0, 2.0, Hemisphere::automatic);
+    CHECK(d.ok);
+    CHECK(d.is_north);
+    CHECK(d.source == "sun rotation");
+  }
+  SECTION("the suns cannot tell: the pattern decides") {
+    const auto d =
+        skypole::reconcile_hemisphere(suns(false, true, false, "sun rotation"), +1, 5.0, 2.0, Hemisphere::automatic);
+    CHECK(d.ok);
+    CHECK_FALSE(d.is_north);
+    CHECK(d.source.find("co-rotating fit") != std::string::npos);
+  }
+  SECTION("without a hint, disagreeing witnesses decline, saying which says what") {
+    const auto d = skypole::reconcile_hemisphere(by_suns_north, +1, 26860.0, 2.0, Hemisphere::automatic);
+    CHECK_FALSE(d.ok);
+    CHECK(d.why.find("as about the NCP, the sky's pattern as about the SCP") != std::string::npos);
+    CHECK(d.why.find("neutral point") != std::string::npos);
+  }
+  SECTION("the suns overrode the user's hint, the pattern sides with the hint: the hint stands") {
+    // hemisphere = south given; the suns said north decisively; the pattern turns about the SCP.
+    const auto overriding = suns(true, true, true, "sun rotation, overriding the hint: hemisphere = south …");
+    const auto d = skypole::reconcile_hemisphere(overriding, +1, 40.0, 2.0, Hemisphere::south);
+    CHECK(d.ok);
+    CHECK_FALSE(d.is_north);
+    CHECK(d.source.find("hint: hemisphere = south") == 0);
+  }
+  SECTION("a hint the suns did not override is not second-guessed by the pattern alone") {
+    const auto d = skypole::reconcile_hemisphere(suns(true, true, false, "hint"), +1, 40.0, 2.0, Hemisphere::north);
+    CHECK(d.ok);
+    CHECK(d.is_north);
+    CHECK(d.source == "hint");
+  }
+}
