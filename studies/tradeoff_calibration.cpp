@@ -272,6 +272,8 @@ void study_calibration(const StudyOptions& o) {
   input.cloud_gate = !o.no_cloud_gate;
   input.sky_mask = !o.no_sky_mask;
   const auto chosen = [&](int k) { return o.scenes.empty() || std::ranges::find(o.scenes, k) != o.scenes.end(); };
+  const std::filesystem::path partial = std::filesystem::path(o.out_dir) / "calibration.partial.csv";
+  int scenes_run = 0;
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);  // drawn even when not chosen: the next scenes stay the same
     if (!chosen(k)) continue;
@@ -383,6 +385,9 @@ void study_calibration(const StudyOptions& o) {
       if (s.bearing_error_deg) rows.set("bearing_error_deg", std::abs(*s.bearing_error_deg));
     }
     if (o.progress) std::fprintf(stderr, "calibration %d/%d\n", k + 1, count);
+    // A run of hundreds of scenes takes minutes to hours: its rows so far, every 10 scenes, under a
+    // name that says they are not the whole run (removed when calibration.csv is written).
+    if (++scenes_run % 10 == 0) rows.write(partial.string());
   }
   const auto quantile = [](std::vector<double> v, double q) {
     if (v.empty()) return std::nan("");
@@ -462,6 +467,7 @@ void study_calibration(const StudyOptions& o) {
         .set("auto_only", auto_only);
   }
   rows.write((std::filesystem::path(o.out_dir) / "calibration.csv").string());
+  std::filesystem::remove(partial);
   summary.write((std::filesystem::path(o.out_dir) / "calibration_summary.csv").string());
   by_sky.write((std::filesystem::path(o.out_dir) / "calibration_by_sky.csv").string());
   common.write((std::filesystem::path(o.out_dir) / "calibration_auto.csv").string());

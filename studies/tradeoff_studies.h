@@ -58,7 +58,10 @@ void study_noise(const StudyOptions& o);          // exposure (sensor noise) →
 void study_lens_inverse(const StudyOptions& o);   // Newton iterations → round-trip error vs time
 void study_sky_precision(const StudyOptions& o);  // float vs double sky evaluation
 void study_throughput(const StudyOptions& o);     // Mpix/s, MB/s, s/stack and their scaling
-void study_calibration(const StudyOptions& o);    // random scenes → yield, lies, 95 % cone coverage
+// calibration: random scenes → yield, lies, 95 % cone coverage (calibration.csv, one row per scene
+// and method, and its summaries; while it runs, the rows so far in calibration.partial.csv, every
+// 10 scenes, removed when the run ends).
+void study_calibration(const StudyOptions& o);
 // The calibration study's number of scenes for these options (--count, else 300; --small 6), and
 // the check of --scenes against it (std::invalid_argument naming the first index it lacks): the
 // command line checks before it creates the output folder.
