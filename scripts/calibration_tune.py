@@ -14,7 +14,7 @@ calibration (skypole/evaluate.cpp, method_calibrations()) can be tried here with
 anything again:
     sigma^2 = lmax(w^2 (a^2 C_frames + b^2 C_sectors)) + floor^2
               + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2
-              + (e*sun_elevation_misfit_deg)^2,
+              + (e*sun_elevation_misfit_deg)^2 + (m*model_misfit)^2,
 w^2 the widening for the jackknives' few groups (uncertainty.h, few_groups_widening2: the F(2, nu)
 95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of min(frames, 6) - 1 and
 5), declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
@@ -25,7 +25,7 @@ err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] (and, with
 figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
 calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, elev, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
+pixels, elev, misfit_deg, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
 --auto ranked|sharpest|mean|mean_raw: auto returns the agreeing answer of the most accurate method
@@ -36,6 +36,9 @@ the sharpest member's sigma; all four are printed with --auto both (the default)
 --replace RERUN.csv ...: the rows of the (seed, method) pairs that `--methods` re-runs of the same
 seeds and counts hold replace the runs' (a method changed after the run).
 --only METHOD ...: search or apply these methods only.
+--grid NAME=V,V,...: search only these values of one grid (NAME: factors, sectors, floors, unpols,
+shares, pixels, elevs, misfit_degs, or a gate's: res_c, win_c, unpol_c, aniso_c, misfit_c; inf for
+no gate), to make a search with many dimensions affordable.
 --plot FILE.png: the reliability diagram (stated 95 % cone against error; share inside per bin).
 A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
 from its sigma and C_sectors = 0.
@@ -59,6 +62,7 @@ MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leave
 # at least SKY_MIN_ANSWERS answers must see at least MIN_SKY_COVERAGE of its truths inside the cone
 # (0: no such rule). Pooled, sun_dolp covered 0.966 while its vrte answers covered 0.68.
 MIN_SKY_COVERAGE = 0.0
+GRID = {}  # --grid: a search grid's values, replacing the default's
 SKY_MIN_ANSWERS = 10
 # auto (evaluate.cpp, auto_rank()): the agreeing answer of the first method in this order, the
 # methods by the median error of their calibrated answers on seed 1 (the tuning seed).
@@ -171,7 +175,7 @@ def sigma_of(d, c):
         C = C * jackknife_factor2(d, A, B, b)[:, None]
     excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
     iso = (c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
-           + (c.get("elev", 0.0) * d["elev"]) ** 2)
+           + (c.get("elev", 0.0) * d["elev"]) ** 2 + (c.get("misfit_deg", 0.0) * d["misfit"]) ** 2)
     return np.sqrt(np.maximum(lmax(C[:, 0], C[:, 1], C[:, 2]), 0.0) + iso)
 
 
@@ -234,6 +238,15 @@ def search(m, d, bound):
     # The model-misfit gate, for the methods that measure one (PoleEstimate::model_misfit: sun_dolp's
     # Rayleigh fit, where a clear Rayleigh sky reads 0-0.002 and Berry's and vrte's skies 0.016-0.08).
     misfit_c = [math.inf] if not np.any(d["misfit"] > 0) else [math.inf, 0.03, 0.02, 0.01, 0.005]
+    # The misfit's sigma term (degrees per unit of misfit): a multiply scattering sky's departure from
+    # the law moves the suns alike in every frame and sector, by more the further it departs (vrte
+    # skies read 0.014-0.12 where sun_vector's latitude erred by 2-6 deg).
+    misfit_degs = [0.0] if not np.any(d["misfit"] > 0) else [0.0, 10.0, 20.0, 40.0, 80.0]
+    grids = {"factors": factors, "sectors": sectors, "floors": floors, "unpols": unpols, "shares": shares,
+             "pixels": pixels, "elevs": elevs, "misfit_degs": misfit_degs, "res_c": res_c, "win_c": win_c,
+             "unpol_c": unpol_c, "aniso_c": aniso_c, "misfit_c": misfit_c}
+    for k, v in GRID.items():
+        grids[k][:] = v
     gates, masks = [], []
     res = np.nan_to_num(d["res"], nan=1e9)
     for mr, mw, mu, ma, mm in itertools.product(res_c, win_c, unpol_c, aniso_c, misfit_c):
@@ -245,15 +258,15 @@ def search(m, d, bound):
     ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"], g["max_misfit"])
                            if math.isfinite(x)) + (g["min_window"] > 0) for g in gates])
     err = np.nan_to_num(d["err"], nan=1e9)
-    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs))
+    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs, misfit_degs))
     found = []
     chunk = 512
     for start in range(0, len(combos), chunk):
         part = combos[start:start + chunk]
         cone_ok, lie_v, inside_v = [], [], []
-        for f, b, fl, u, sh, px, el in part:
+        for f, b, fl, u, sh, px, el, mt in part:
             sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px,
-                                 "elev": el, "dof": True})
+                                 "elev": el, "misfit_deg": mt, "dof": True})
             ok = K95 * sigma <= bound
             cone_ok.append(ok)
             lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
@@ -277,11 +290,11 @@ def search(m, d, bound):
                     bad = (vs >= SKY_MIN_ANSWERS) & (ins < MIN_SKY_COVERAGE * vs)
                     good[g_[bad], j_[bad]] = False
         for g, j in zip(*np.nonzero(good)):
-            f, b, fl, u, sh, px, el = part[j]
-            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0)
+            f, b, fl, u, sh, px, el, mt = part[j]
+            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0) + (mt > 0)
             found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
                           {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "elev": el,
-                           "dof": True,
+                           "misfit_deg": mt, "dof": True,
                            **gates[g]}))
     if not found:
         return None
@@ -382,8 +395,18 @@ def main():
     ap.add_argument("--min-sky-coverage", type=float, default=0.0,
                     help=f"the search also requires this coverage of each sky model with at least {SKY_MIN_ANSWERS} "
                     "answers (0: pooled only)")
+    ap.add_argument("--grid", action="append", default=[], metavar="NAME=V,V,...",
+                    help="search only these values of one grid (factors, sectors, floors, unpols, shares, pixels, "
+                    "elevs, misfit_degs; res_c, win_c, unpol_c, aniso_c, misfit_c)")
     a = ap.parse_args()
     global MAX_COVERAGE, MARGIN, MIN_SKY_COVERAGE
+    known = ("factors", "sectors", "floors", "unpols", "shares", "pixels", "elevs", "misfit_degs", "res_c", "win_c",
+             "unpol_c", "aniso_c", "misfit_c")
+    for g in a.grid:
+        name, _, values = g.partition("=")
+        if name not in known:
+            ap.error(f"--grid {g}: no grid named {name!r} (one of {', '.join(known)})")
+        GRID[name] = [float(x) for x in values.split(",")]
     MAX_COVERAGE = a.max_coverage
     MARGIN = a.margin
     MIN_SKY_COVERAGE = a.min_sky_coverage

@@ -103,8 +103,9 @@ struct PoleEstimate {
   // How far the sky departs from the method's model of it, as the method measures it (sun_dolp:
   // the rms of its Rayleigh fit's DoLP residual beyond the images' own noise, as a share of the
   // fitted Pmax, the median over frames: a multiply scattering sky's DoLP is not Rayleigh's law;
-  // great_circle: the same, measured for it by sun_vector.h rayleigh_law_misfit). 0: not
-  // measured. A diagnostic the calibration's gates read (evaluate.h).
+  // great_circle and sun_vector: the same, measured for them by sun_vector.h rayleigh_law_misfit,
+  // evaluate.cpp run_method). 0: not measured. A diagnostic the calibration's gates and σ terms
+  // read (evaluate.h).
   double model_misfit = 0;
   // An error of the method's own measurements that its data reveal but neither jackknife resolves,
   // as a shift of the pole in the tangent plane, degrees (sun_vector_ephemeris: its suns' elevations

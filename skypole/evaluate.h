@@ -57,6 +57,7 @@ const std::vector<std::string>& auto_rank();
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
 //     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
 //          + (unpolarized_deg·unpolarized_share)² + (elevation_share·sun_elevation_misfit_deg)²
+//          + (misfit_deg·model_misfit)²
 // (pixel: pixel_angle_deg of the stack's camera, uncertainty.h; unpolarized_share: cloud_share.h)
 // — the frame jackknife sees errors that differ between frames, the sector jackknife errors that
 // live in one part of the sky in every frame, the unpolarized term how much of the sky a clear sky
@@ -86,6 +87,11 @@ struct MethodCalibration {
   // A σ term elevation_share·sun_elevation_misfit_deg (PoleEstimate: the shared error of the
   // ephemeris' suns that their elevations show and no jackknife resolves).
   double elevation_share = 0.0;
+  // A σ term misfit_deg·model_misfit, degrees per unit of misfit (PoleEstimate::model_misfit: how far
+  // the sky departs from Rayleigh's law; a multiply scattering sky moves the suns a method finds
+  // alike in every frame and sector, so that neither jackknife sees it, by more the further it
+  // departs). 0: not counted.
+  double misfit_deg = 0.0;
 };
 // Whether `method` runs the sector jackknife (uncertainty.h): the methods that fit the whole sky
 // per frame (sun_vector, sun_vector_ephemeris, sun_dolp); great_circle, which refits its pairs'

@@ -511,6 +511,19 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(row.at("why_invalid").find("cannot tell north from south") != std::string::npos);
     CHECK(row.at("why_invalid").find("neutral point") != std::string::npos);
   }
+  // Seed 11, scene 292: sun_vector 4.32° off at σ 0.83° on a vrte sky at 47°S, all of it latitude.
+  // The sky departs from Rayleigh's law (misfit 0.023), which its calibration now counts (40° per
+  // unit): its stated cone, 2.55° (σ 1.04°: the error would be 4.2σ), is wider than the study's
+  // 2.5° bound, and it declines saying so.
+  {
+    const auto row = replay(11, 292, "sun_vector");
+    CHECK(row.at("valid") == "0");
+    CHECK(row.at("why_invalid").find("95 % cone") != std::string::npos);
+    const auto raw = replay(11, 292, "sun_vector", " --uncalibrated --max-uncertainty inf");
+    REQUIRE(raw.at("valid") == "1");
+    CHECK(num(raw, "angular_error_deg") == Approx(4.32).margin(0.01));
+    CHECK(num(raw, "model_misfit") == Approx(0.0232).margin(0.0005));
+  }
 }
 
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
