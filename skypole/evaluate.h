@@ -50,9 +50,9 @@ bool used_by_auto(std::string_view method, bool site_known);
 const std::vector<std::string>& auto_rank();
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seeds 1, 3,
-// 4, 5 and 6 pooled, 1 and 3–7 for invariance and sun_dolp, 1 and 3–8 for sun_vector_ephemeris,
-// 1 and 3–9 for great_circle, 1 and 3–11 for sun_vector (docs/benchmarks.md, sections 7a, 7c
-// and 7d). The stated covariance is
+// 4, 5 and 6 pooled, 1 and 3–7 for sun_dolp, 1 and 3–8 for sun_vector_ephemeris, 1 and 3–9 for
+// great_circle, 1 and 3–11 for sun_vector and invariance (docs/benchmarks.md, sections 7a, 7c, 7d
+// and 7e). The stated covariance is
 //     C = w²·(inflation²·C_frames + sector_inflation²·C_sectors) + s²·I,
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
 //     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
