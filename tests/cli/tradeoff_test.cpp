@@ -524,6 +524,18 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(num(raw, "angular_error_deg") == Approx(4.32).margin(0.01));
     CHECK(num(raw, "model_misfit") == Approx(0.0232).margin(0.0005));
   }
+  // Seed 13, scene 115 (held out): 7c's calibration of invariance would have answered this clear
+  // Berry sky at 11°S 3.30° off at 3.9σ. Its law misfit, 0.030, counts 2.4° (80° per unit) now:
+  // declined by the bound.
+  {
+    const auto row = replay(13, 115, "invariance");
+    CHECK(row.at("valid") == "0");
+    CHECK(row.at("why_invalid").find("95 % cone") != std::string::npos);
+    const auto raw = replay(13, 115, "invariance", " --uncalibrated --max-uncertainty inf");
+    REQUIRE(raw.at("valid") == "1");
+    CHECK(num(raw, "angular_error_deg") == Approx(3.30).margin(0.01));
+    CHECK(num(raw, "model_misfit") == Approx(0.030).margin(0.0005));
+  }
 }
 
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
