@@ -28,11 +28,15 @@ calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.m
 pixels, elev, misfit_deg, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
---auto ranked|sharpest|mean|mean_raw: auto returns the agreeing answer of the most accurate method
-(RANK; what evaluate.cpp does), the agreeing answer with the smallest sigma, or the
-inverse-variance weighted mean of the agreeing answers, weighted by the calibrated sigma (mean) or
-by the raw jackknives' variance plus the uncalibrated run's 0.05 deg floor (mean_raw), stated with
-the sharpest member's sigma; all four are printed with --auto both (the default).
+--auto ranked|sharpest|ephemeris|ephemeris_mean|mean|mean_raw: auto returns the agreeing answer of
+the first method in RANK (what evaluate.cpp did before section 7e), the agreeing answer with the
+smallest sigma, sun_vector_ephemeris' answer when it agrees and else the sharpest (ephemeris) or
+else the inverse-variance mean (ephemeris_mean: what evaluate.cpp does), or the inverse-variance
+weighted mean of the
+agreeing answers, weighted by the calibrated sigma (mean) or by the raw jackknives' variance plus
+the uncalibrated run's 0.05 deg floor (mean_raw), stated with the sharpest member's sigma; all
+six are printed with --auto both (the default), each also as for a stack that does not know its
+site (no sun_vector_ephemeris: an imported capture without [site]).
 --replace RERUN.csv ...: the rows of the (seed, method) pairs that `--methods` re-runs of the same
 seeds and counts hold replace the runs' (a method changed after the run).
 --only METHOD ...: search or apply these methods only.
@@ -64,8 +68,8 @@ MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leave
 MIN_SKY_COVERAGE = 0.0
 GRID = {}  # --grid: a search grid's values, replacing the default's
 SKY_MIN_ANSWERS = 10
-# auto (evaluate.cpp, auto_rank()): the agreeing answer of the first method in this order, the
-# methods by the median error of their calibrated answers on seed 1 (the tuning seed).
+# auto before section 7e (evaluate.cpp's auto_rank()): the agreeing answer of the first method in
+# this order, the methods by the median error of their calibrated answers on seed 1.
 RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
 SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "great_circle", "invariance")  # evaluate.cpp has_sector_jackknife
 
@@ -343,12 +347,15 @@ def combine(by, cal, bound, mode="sharpest", site_known=True):
         sharp = min(members, key=lambda b: b[3])
         if mode == "ranked":  # the most accurate method of the calibration study that agrees
             sharp = min(members, key=lambda b: RANK.index(b[0]) if b[0] in RANK else len(RANK))
+        eph = next((b for b in members if b[0] == "sun_vector_ephemeris"), None)
+        if mode in ("ephemeris", "ephemeris_mean"):  # the ephemeris' answer if it agrees, else the
+            sharp = eph or sharp                      # sharpest, or (ephemeris_mean) their mean
         if sharp[2] > bound:
             continue
         out_ok[k] = True
         out_sigma[k] = sharp[3]
-        if mode in ("mean", "mean_raw") and len(members) > 1:
-            w = np.array([1.0 / (b[3] ** 2 if mode == "mean" else b[5]) for b in members])
+        if (mode in ("mean", "mean_raw") or (mode == "ephemeris_mean" and eph is None)) and len(members) > 1:
+            w = np.array([1.0 / (b[5] if mode == "mean_raw" else b[3] ** 2) for b in members])
             mean = sum(wi * b[1] for wi, b in zip(w, members)) / w.sum()
             out_err[k] = float(np.hypot(*mean))
         else:
@@ -356,17 +363,17 @@ def combine(by, cal, bound, mode="sharpest", site_known=True):
     return out_ok, out_err, out_sigma
 
 
-def auto_report(by, cal, bound, mode):
-    ok, err, sigma = combine(by, cal, bound, mode)
+def auto_report(by, cal, bound, mode, site_known=True):
+    ok, err, sigma = combine(by, cal, bound, mode, site_known)
     v = int(ok.sum())
     e = err[ok]
-    print(f"auto ({mode}) all", {"valid": v, "yield": round(v / len(ok), 4),
+    print(f"auto ({mode}{'' if site_known else ', no site'}) all", {"valid": v, "yield": round(v / len(ok), 4),
                                  "lies": int(np.sum((e > LIE_DEG) | (e > LIE_SIGMA * sigma[ok]))),
                                  "coverage": round(float(np.mean(e <= K95 * sigma[ok])), 4) if v else math.nan,
                                  "median": float(np.median(e)) if v else math.nan})
     # auto against each method on the stacks where both answer.
     for m, d in by.items():
-        if m not in cal:
+        if m not in cal or (m == "sun_vector_ephemeris" and not site_known):
             continue
         mok, _ = apply(d, cal[m], bound)
         both = ok & mok
@@ -386,7 +393,7 @@ def main():
     ap.add_argument("--replace", nargs="*", default=[], help="calibration.csv of --methods re-runs of the same seeds and counts: their "
                     "methods' rows replace those of CSV")
     ap.add_argument("--plot", help="write the reliability diagram of the calibration (PNG) here")
-    ap.add_argument("--auto", default="both", choices=["sharpest", "ranked", "mean", "mean_raw", "both"])
+    ap.add_argument("--auto", default="both", choices=["sharpest", "ranked", "ephemeris", "ephemeris_mean", "mean", "mean_raw", "both"])
     ap.add_argument("--max-coverage", type=float, default=0.98,
                     help="upper end of the coverage band the search accepts (1: any zero-lie calibration)")
     ap.add_argument("--margin", type=float, default=1.0,
@@ -435,8 +442,11 @@ def main():
         seeds = sorted(set(d["seed"]))
         for seed in seeds if len(seeds) > 1 else []:
             print(m, f"seed {seed}", stats(d, ok, sigma, d["seed"] == seed))
-    for mode in (["sharpest", "ranked", "mean", "mean_raw"] if a.auto == "both" else [a.auto]):
+    for mode in (["sharpest", "ranked", "ephemeris", "ephemeris_mean", "mean", "mean_raw"] if a.auto == "both"
+                 else [a.auto]):
         auto_report(by, cal, a.bound, mode)
+        if "sun_vector_ephemeris" in by and len(by) > 2:
+            auto_report(by, cal, a.bound, mode, site_known=False)
     if a.plot:
         plot(by, cal, a.bound, a.plot, a.auto if a.auto != "both" else "sharpest")
 

@@ -103,15 +103,6 @@ double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
 
 }  // namespace
 
-const std::vector<std::string>& auto_rank() {
-  // By median error of the calibrated answers on the tuning seed (seed 1, 500 scenes):
-  // sun_vector_ephemeris 0.010°, great_circle 0.060°, sun_vector 0.14°, sun_dolp 0.15°,
-  // invariance 0.20°, classic 0.49° (docs/benchmarks.md, section 7).
-  static const std::vector<std::string> r = {"sun_vector_ephemeris", "great_circle", "sun_vector",
-                                             "sun_dolp", "invariance", "classic"};
-  return r;
-}
-
 bool has_sector_jackknife(std::string_view method) {
   return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp" ||
          method == "great_circle" || method == "invariance";
@@ -179,30 +170,55 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
     out.why_invalid = "the methods disagree beyond their 95 % cones: " + who;
     return out;
   }
-  // The answer is the agreeing member of the method that was most accurate in the calibration
-  // study (auto_rank()), as it stands (its pole and its uncertainty). Not the smallest σ: each
-  // method's σ is calibrated to hold its own errors, not to rank it against the others (under a
-  // calibration searched for 90–98 % coverage the smallest-σ pick had a median error of 0.019° on
-  // seed 1 against the ranked pick's 0.010°). Not an average: the methods read the same frames, so
-  // their errors are correlated, and an inverse-variance mean of the agreeing answers was less
-  // accurate (0.0175° against 0.0105° on seed 1): it pulls the ephemeris' answer towards worse ones
-  // (docs/benchmarks.md, section 7a).
-  const auto rank = [](const PoleEstimate* b) {
-    const auto& r = auto_rank();
-    return static_cast<std::size_t>(std::find(r.begin(), r.end(), b->method) - r.begin());
-  };
-  const PoleEstimate* chosen = members.front();
-  for (const PoleEstimate* b : members)
-    if (rank(b) < rank(chosen)) chosen = b;
+  // The answer. sun_vector_ephemeris' when it agrees, as it stands (its pole and its σ): its median
+  // error is some twenty times smaller than any other method's, and averaging pulls it towards
+  // worse ones (0.0175° against 0.0105° on seed 1, docs/benchmarks.md section 7a). Without it (a
+  // capture without its site, or the ephemeris declined or outvoted), the inverse-variance mean of
+  // the agreeing answers, stated with the σ of the sharpest of them: the methods read the same
+  // frames, so their errors are correlated, and the mean's own σ would claim more than the data
+  // hold. On the scenes both answer, that mean erred less than each member; the agreeing answer of
+  // a fixed order of methods (auto_rank(), before section 7e) erred more than sun_vector's and
+  // sun_dolp's own.
+  const auto ephemeris = std::find_if(members.begin(), members.end(),
+                                      [](const PoleEstimate* b) { return b->method == "sun_vector_ephemeris"; });
+  const PoleEstimate* sharpest = *std::min_element(
+      members.begin(), members.end(), [](const PoleEstimate* a, const PoleEstimate* b) { return a->sigma_deg < b->sigma_deg; });
+  const PoleEstimate* chosen = ephemeris != members.end() ? *ephemeris : sharpest;
   out = *chosen;
+  std::string how = "the answer of " + chosen->method;
+  if (ephemeris == members.end() && members.size() > 1) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    double weights = 0;
+    for (const PoleEstimate* b : members) {
+      const double w = 1.0 / std::max(b->sigma_deg * b->sigma_deg, 1e-12);
+      sum += w * tangent_offset(*sharpest, *b);
+      weights += w;
+    }
+    SkyImages frame;  // what make_estimate reads: the lens, the image size, the level frame
+    frame.lens = &stack.camera->lens();
+    frame.width = stack.camera->width();
+    frame.height = stack.camera->height();
+    frame.level_from_camera = level_from_camera(stack, input);
+    const Eigen::Vector3d end_level = tangent_moved(*sharpest, sum / weights);
+    const Eigen::Vector3d ncp_level = sharpest->is_north ? end_level : Eigen::Vector3d(-end_level);
+    const PoleEstimate mean = make_estimate("auto", frame, frame.level_from_camera.transpose() * ncp_level, input);
+    out.pole_camera = mean.pole_camera;
+    out.pole_level = mean.pole_level;
+    out.pixel = mean.pixel;
+    out.azimuth_rel_deg = mean.azimuth_rel_deg;
+    out.altitude_deg = mean.altitude_deg;
+    out.latitude_deg = mean.latitude_deg;
+    out.heading_deg = mean.heading_deg;
+    out.is_north = mean.is_north;
+    how = "the inverse-variance mean of the agreeing answers, with the σ of the sharpest, " + sharpest->method;
+  }
   out.method = "auto";
   out.seconds = total_seconds;
   std::string used, others;
   for (const PoleEstimate* b : members)
     if (b != chosen) used += ", " + b->method;
   for (const PoleEstimate* b : dissent) others += (others.empty() ? "" : ", ") + b->method;
-  const std::string note = "answer of " + chosen->method + " (the most accurate agreeing method" +
-                           (used.empty() ? "" : "; agreeing: " + used.substr(2)) + ")" +
+  const std::string note = how + (used.empty() ? "" : " (agreeing: " + used.substr(2) + ")") +
                            (others.empty() ? "" : "; outvoted: " + others) +
                            (declined.empty() ? "" : "; declined: " + declined);
   out.note = chosen->note.empty() ? note : note + "; " + chosen->note;

@@ -30,9 +30,10 @@ const std::vector<std::string>& method_names();
 // stack knows its site and times (stack.site_known; an imported capture without [site] does not).
 // Two answers agree when their angle is within 1.52 × the root-sum-square of their 95 % cones
 // (the 99.9 % level); the answer most others agree with is the centre; of the agreeing group, auto
-// returns the answer of the method that was most accurate in the calibration study (auto_rank()),
-// with its σ (the methods read the same frames, so their errors are correlated and an average
-// would state less uncertainty than the data hold; it was also less accurate). auto declines
+// returns sun_vector_ephemeris' answer as it stands when it is a member (an average with the
+// others was less accurate), and otherwise the inverse-variance mean of the members' poles, stated
+// with the σ of the sharpest member (the methods read the same frames, so their errors are
+// correlated and the mean's own σ would claim more than the data hold). auto declines
 // when no method answers, or when the agreeing group is no larger than the dissenting answers
 // (the data do not decide); the note names the answer's method, the agreeing, the outvoted and
 // the declined methods with their reasons.
@@ -45,9 +46,6 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
 PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& input,
                                const std::vector<PoleEstimate>& estimates);
 bool used_by_auto(std::string_view method, bool site_known);
-// The methods by the median error of their calibrated answers on the calibration study's tuning
-// seed, most accurate first: the order in which auto prefers an agreeing answer.
-const std::vector<std::string>& auto_rank();
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seeds 1, 3,
 // 4, 5 and 6 pooled, 1 and 3–7 for sun_dolp, 1 and 3–8 for sun_vector_ephemeris, 1 and 3–9 for

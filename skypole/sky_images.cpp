@@ -79,9 +79,7 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
   const std::string dolp_name = "DoLP." + sky.band;
   const std::size_t n = sky.pixels();
 
-  const Attitude att = options.attitude.value_or(
-      Attitude{stack.frames.front().truth.tilt_deg, stack.frames.front().truth.roll_deg});
-  sky.level_from_camera = camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
+  sky.level_from_camera = level_from_camera(stack, options);
 
   sky.valid.assign(n, 1);
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
@@ -370,6 +368,12 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
   d.is_north = v.vote < 0;
   d.from_suns = true;
   return d;
+}
+
+Eigen::Matrix3d level_from_camera(const stack::Stack& stack, const InputOptions& options) {
+  const Attitude att = options.attitude.value_or(
+      Attitude{stack.frames.front().truth.tilt_deg, stack.frames.front().truth.roll_deg});
+  return camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
 }
 
 PoleEstimate make_estimate(std::string method, const SkyImages& sky,

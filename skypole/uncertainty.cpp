@@ -66,6 +66,16 @@ Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other
   return {v.dot(e_az), v.dot(e_alt)};
 }
 
+Eigen::Vector3d tangent_moved(const PoleEstimate& at, const Eigen::Vector2d& offset) {
+  const Eigen::Vector3d p = at.pole_level.normalized();
+  const double angle = offset.norm();
+  if (angle < 1e-15) return p;
+  Eigen::Vector3d e_az, e_alt;
+  tangent_axes(p, e_az, e_alt);
+  const Eigen::Vector3d towards = (offset.x() * e_az + offset.y() * e_alt) / angle;
+  return (std::cos(angle) * p + std::sin(angle) * towards).normalized();
+}
+
 stack::Stack frames_kept(const stack::Stack& stack, const std::vector<std::uint8_t>& keep) {
   stack::Stack sub;
   sub.camera = stack.camera;

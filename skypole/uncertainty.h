@@ -68,6 +68,9 @@ void set_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& covariance_rad2);
 // The tangent-plane offset (rad; azimuth axis, altitude axis) of `other`'s pole from `at`'s,
 // both taken as the end of the axis that `at` reports (the NCP or the SCP above the horizon).
 Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other);
+// Its inverse: the level-frame unit direction `offset` (rad; azimuth axis, altitude axis) away from
+// `at`'s pole along the sphere (the exponential map), as the end `at` reports.
+Eigen::Vector3d tangent_moved(const PoleEstimate& at, const Eigen::Vector2d& offset);
 
 // The stack with only the frames whose keep[i] is 1 (keep has one entry per frame): what a
 // frame jackknife's sub-run sees, and what a refit from cached work must agree with.

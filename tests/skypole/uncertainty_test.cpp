@@ -7,6 +7,7 @@
 #include <iostream>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
@@ -199,47 +200,68 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
   }
 }
 
-TEST_CASE("auto returns the agreeing answer of the most accurate method and says which", "[skypole][uncertainty][auto]") {
+TEST_CASE("auto: the ephemeris' answer when it agrees, else the inverse-variance mean with the sharpest σ",
+          "[skypole][uncertainty][auto]") {
   testing::SyntheticSpec spec = testing::paper_day(96, 300, 0.01);
   stack::Stack stack = testing::make_stack(spec);
   std::vector<skypole::PoleEstimate> all;
   for (const std::string& m : skypole::method_names())
     if (m != "auto") all.push_back(skypole::run_method(stack, m));
-  // On this clear noisy day every valid answer is within a fraction of a degree of the truth, so
-  // all agree; the expected answer is the valid one of the first method in the rank order,
-  // found here from the members themselves.
-  const auto first_ranked = [&](bool with_ephemeris) -> const skypole::PoleEstimate* {
-    for (const std::string& m : skypole::auto_rank())
-      for (const auto& e : all)
-        if (e.method == m && e.valid && (with_ephemeris || m != "sun_vector_ephemeris")) return &e;
-    return nullptr;
+  const auto find = [&](const std::string& m) -> const skypole::PoleEstimate& {
+    for (const auto& e : all)
+      if (e.method == m) return e;
+    throw std::logic_error(m);
   };
-  // The rank holds every method auto uses, once.
-  CHECK(skypole::auto_rank().size() == skypole::method_names().size() - 1);
+  // On this clear noisy day every valid answer is within a fraction of a degree of the truth, so
+  // all agree.
   const skypole::PoleEstimate a = skypole::combine_estimates(stack, {}, all);
   INFO(a.why_invalid << " / " << a.note);
   REQUIRE(a.valid);
   CHECK(a.method == "auto");
   CHECK(a.note.find("outvoted") == std::string::npos);
-  REQUIRE(first_ranked(true) != nullptr);
-  // The stack knows its site: sun_vector_ephemeris takes part, ranks first, and its answer is
-  // returned as it stands (its pole, its σ).
-  CHECK(first_ranked(true)->method == "sun_vector_ephemeris");
-  CHECK_THAT(a.note, Catch::Contains("answer of " + first_ranked(true)->method));
-  CHECK(a.sigma_deg == first_ranked(true)->sigma_deg);
-  CHECK(a.cone95_deg == first_ranked(true)->cone95_deg);
-  CHECK(a.heading_deg == first_ranked(true)->heading_deg);
-  CHECK(a.latitude_deg == first_ranked(true)->latitude_deg);
+  // The stack knows its site: sun_vector_ephemeris takes part and its answer is returned as it
+  // stands (its pole, its σ).
+  const skypole::PoleEstimate& eph = find("sun_vector_ephemeris");
+  REQUIRE(eph.valid);
+  CHECK_THAT(a.note, Catch::StartsWith("the answer of sun_vector_ephemeris"));
+  CHECK(a.sigma_deg == eph.sigma_deg);
+  CHECK(a.cone95_deg == eph.cone95_deg);
+  CHECK(a.heading_deg == eph.heading_deg);
+  CHECK(a.latitude_deg == eph.latitude_deg);
   CHECK(skypole::score(a, stack.frames.front().truth).angular_error_deg < 0.5);
 
-  SECTION("a capture without its site: sun_vector_ephemeris is left out") {
+  SECTION("a capture without its site: the inverse-variance mean of the others, with the sharpest σ") {
     stack.site_known = false;
     const skypole::PoleEstimate b = skypole::combine_estimates(stack, {}, all);
     REQUIRE(b.valid);
     CHECK(b.note.find("sun_vector_ephemeris") == std::string::npos);
-    REQUIRE(first_ranked(false) != nullptr);
-    CHECK_THAT(b.note, Catch::Contains("answer of " + first_ranked(false)->method));
-    CHECK(b.sigma_deg == first_ranked(false)->sigma_deg);
+    // The mean, found here from the members themselves: Σ wᵢ·offsetᵢ / Σ wᵢ about the sharpest,
+    // wᵢ = 1/σᵢ², every site-free method that answered (all agree on this day).
+    const skypole::PoleEstimate* sharpest = nullptr;
+    int members = 0;
+    for (const auto& e : all)
+      if (e.valid && e.method != "sun_vector_ephemeris") {
+        ++members;
+        if (!sharpest || e.sigma_deg < sharpest->sigma_deg) sharpest = &e;
+      }
+    REQUIRE(members >= 2);
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    double weights = 0;
+    for (const auto& e : all)
+      if (e.valid && e.method != "sun_vector_ephemeris") {
+        sum += skypole::tangent_offset(*sharpest, e) / (e.sigma_deg * e.sigma_deg);
+        weights += 1 / (e.sigma_deg * e.sigma_deg);
+      }
+    const Eigen::Vector2d expected = sum / weights;
+    const Eigen::Vector2d got = skypole::tangent_offset(*sharpest, b);
+    CHECK(got.x() == Approx(expected.x()).margin(1e-9));
+    CHECK(got.y() == Approx(expected.y()).margin(1e-9));
+    CHECK(expected.norm() > 1e-7);  // the members differ: the mean is not the sharpest's answer
+    CHECK(b.sigma_deg == sharpest->sigma_deg);
+    CHECK(b.cone95_deg == sharpest->cone95_deg);
+    CHECK_THAT(b.note, Catch::StartsWith("the inverse-variance mean of the agreeing answers, with the σ of the "
+                                         "sharpest, " + sharpest->method));
+    CHECK(skypole::score(b, stack.frames.front().truth).angular_error_deg < 0.5);
   }
 
   SECTION("no method answers: auto declines and lists why") {
@@ -252,6 +274,25 @@ TEST_CASE("auto returns the agreeing answer of the most accurate method and says
     CHECK_FALSE(d.valid);
     CHECK_THAT(d.why_invalid, Catch::Contains("no method could answer") && Catch::Contains("great_circle: test"));
   }
+}
+
+TEST_CASE("tangent_moved is tangent_offset's inverse", "[skypole][uncertainty]") {
+  // A pole at altitude 40°, azimuth 70°, reported as the SCP end: move it by (0.3°, −1.2°) in its
+  // tangent plane and read the offset back.
+  skypole::PoleEstimate at;
+  const double az = 70 * kDeg, alt = 40 * kDeg;
+  at.pole_level = Eigen::Vector3d(std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt));
+  at.is_north = false;
+  const Eigen::Vector2d d(0.3 * kDeg, -1.2 * kDeg);
+  skypole::PoleEstimate moved = at;
+  moved.pole_level = skypole::tangent_moved(at, d);
+  const Eigen::Vector2d back = skypole::tangent_offset(at, moved);
+  CHECK(back.x() == Approx(d.x()).margin(1e-12));
+  CHECK(back.y() == Approx(d.y()).margin(1e-12));
+  // The altitude axis points up: a move of +1° along it raises the pole by 1°.
+  const Eigen::Vector3d up = skypole::tangent_moved(at, Eigen::Vector2d(0, 1 * kDeg));
+  CHECK(std::asin(up.z()) / kDeg == Approx(41.0).margin(1e-9));
+  CHECK(skypole::tangent_moved(at, Eigen::Vector2d::Zero()).isApprox(at.pole_level));
 }
 
 TEST_CASE("pixel_angle_deg is 1/fx radians for an equidistant lens", "[skypole][uncertainty]") {
