@@ -212,6 +212,7 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
     out.heading_deg = mean.heading_deg;
     out.is_north = mean.is_north;
     how = "the inverse-variance mean of the agreeing answers, with the σ of the sharpest, " + sharpest->method;
+    if (!mean.heading_deg) how += " (" + mean.note + ")";  // the mean's pole is near the zenith
   }
   out.method = "auto";
   out.seconds = total_seconds;
