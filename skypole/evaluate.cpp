@@ -319,9 +319,13 @@ const std::vector<MethodCalibration>& method_calibrations() {
   return c;
 }
 
+namespace {
+
 // The calibration's gates (method_calibrations()): decline, with the numbers, where the study
-// found the method's error unpredictable.
-void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack, const InputOptions& input) {
+// found the method's error unpredictable. `unpolarized` receives the sky's unpolarized share when
+// the cloud gate measured it, so that run_method's σ term does not prepare the same images again.
+void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack, const InputOptions& input,
+                 std::optional<double>& unpolarized) {
   if (!e.valid || !input.calibrated) return;
   char buf[640];
   if (e.residual_deg > c.max_residual_deg) {
@@ -361,7 +365,8 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
     return *images;
   };
   if (input.cloud_gate && std::isfinite(c.max_unpolarized_share)) {
-    const double share = unpolarized_share(sky_images());
+    unpolarized = unpolarized_share(sky_images());
+    const double share = *unpolarized;
     if (share > c.max_unpolarized_share) {
       std::snprintf(buf, sizeof buf,
                     "cloud or neutral points: %.0f %% of the sky away from the sun and antisun is unpolarized "
@@ -389,6 +394,13 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
   }
 }
 
+}  // namespace
+
+void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack,
+                             const InputOptions& input) {
+  std::optional<double> unpolarized;
+  apply_gates(e, c, stack, input, unpolarized);
+}
 
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input, ClassicImages* classic_images) {
@@ -447,7 +459,8 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   MethodCalibration cal;
   for (const MethodCalibration& c : method_calibrations())
     if (c.method == method) cal = c;
-  apply_calibration_gates(e, cal, stack, input);
+  std::optional<double> unpolarized;  // the sky's unpolarized share, once measured
+  apply_gates(e, cal, stack, input, unpolarized);
   if (!e.valid) return e;
   std::optional<Eigen::Matrix2d> frames;
   if (cl) {
@@ -486,10 +499,10 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     // error, and at binning 16 a pixel is 1.5°).
     const double residual_excess =
         std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
-    const double unpolarized =
-        cal.unpolarized_deg > 0 ? unpolarized_share(prepare_sky_images(stack, input, 1, e.method)) : 0.0;
+    if (cal.unpolarized_deg > 0 && !unpolarized)
+      unpolarized = unpolarized_share(prepare_sky_images(stack, input, 1, e.method));
     const double floor = std::sqrt(cal.floor_deg * cal.floor_deg + std::pow(cal.residual_share * residual_excess, 2) +
-                                   std::pow(cal.unpolarized_deg * unpolarized, 2) +
+                                   std::pow(cal.unpolarized_deg * unpolarized.value_or(0.0), 2) +
                                    std::pow(cal.elevation_share * e.sun_elevation_misfit_deg, 2) +
                                    std::pow(cal.misfit_deg * e.model_misfit, 2));
     set_calibrated_uncertainty(e, jack, cal.inflation, cal.sector_inflation, floor);
