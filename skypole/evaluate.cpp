@@ -195,11 +195,7 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
       sum += w * tangent_offset(*sharpest, *b);
       weights += w;
     }
-    SkyImages frame;  // what make_estimate reads: the lens, the image size, the level frame
-    frame.lens = &stack.camera->lens();
-    frame.width = stack.camera->width();
-    frame.height = stack.camera->height();
-    frame.level_from_camera = level_from_camera(stack, input);
+    const SkyImages frame = sky_geometry(stack, input);
     const Eigen::Vector3d end_level = tangent_moved(*sharpest, sum / weights);
     const Eigen::Vector3d ncp_level = sharpest->is_north ? end_level : Eigen::Vector3d(-end_level);
     const PoleEstimate mean = make_estimate("auto", frame, frame.level_from_camera.transpose() * ncp_level, input);

@@ -68,18 +68,13 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
     throw std::invalid_argument(m + ": min_elevation_deg must be in (−90, 90), got " +
                                 std::to_string(options.min_elevation_deg));
 
-  SkyImages sky;
-  sky.lens = &stack.camera->lens();
-  sky.width = stack.camera->width();
-  sky.height = stack.camera->height();
+  SkyImages sky = sky_geometry(stack, options);
   if (sky.width <= 0 || sky.height <= 0)
     throw std::invalid_argument(m + ": the camera has an empty image (" + std::to_string(sky.width) +
                                 "×" + std::to_string(sky.height) + ")");
   sky.band = pick_band(stack, options);
   const std::string dolp_name = "DoLP." + sky.band;
   const std::size_t n = sky.pixels();
-
-  sky.level_from_camera = level_from_camera(stack, options);
 
   sky.valid.assign(n, 1);
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
@@ -370,10 +365,15 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
   return d;
 }
 
-Eigen::Matrix3d level_from_camera(const stack::Stack& stack, const InputOptions& options) {
+SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options) {
+  SkyImages sky;
+  sky.lens = &stack.camera->lens();
+  sky.width = stack.camera->width();
+  sky.height = stack.camera->height();
   const Attitude att = options.attitude.value_or(
       Attitude{stack.frames.front().truth.tilt_deg, stack.frames.front().truth.roll_deg});
-  return camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
+  sky.level_from_camera = camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
+  return sky;
 }
 
 PoleEstimate make_estimate(std::string method, const SkyImages& sky,

@@ -102,9 +102,10 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
                                      const Eigen::Vector3d& axis_camera, Hemisphere hint,
                                      const std::vector<double>& times_s = {});
 
-// The rotation from the camera frame to the level frame (estimate.h): the stack's tilt and roll, or
-// options.attitude; the heading is what the methods estimate.
-Eigen::Matrix3d level_from_camera(const stack::Stack& stack, const InputOptions& options);
+// The stack's sky geometry without its images: the lens, the image size and the level frame (the
+// stack's tilt and roll, or options.attitude; estimate.h) — what prepare_sky_images starts from and
+// make_estimate reads.
+SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options);
 
 // A valid PoleEstimate for the NCP direction `ncp_camera` (unit, camera frame): fills the pole
 // above the horizon, α_rel, altitude, latitude, heading (or why it is undefined) and the pixel.
