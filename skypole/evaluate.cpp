@@ -263,7 +263,8 @@ const std::vector<MethodCalibration>& method_calibrations() {
   // seeds 1 and 3–8 pooled (2,300 scenes), the same rules, with its elevation term; seed 9 is held
   // out for it, seed 12 for every method (section 7d). sun_vector and invariance, which measure the
   // sky's Rayleigh-law misfit since, were retuned on seeds 1 and 3–11 with it (section 7e); seeds
-  // 12–14 are held out for them, 13 and 14 for every method.
+  // 12–14 are held out for them, 13 and 14 for every method. sun_dolp was retuned on seeds 1 and
+  // 3–12 (section 7f); seed 15 is held out for every method.
   //  - sun_vector_ephemeris: ×0.5 frames, ×0.25 sectors, floor 0.0003°, 0.25 × its suns'
   //    elevation misfit (PoleEstimate::sun_elevation_misfit_deg), residual ≤ 5° (a saturated
   //    sensor's fit), at most 30 % of the sky unpolarized.
@@ -277,10 +278,15 @@ const std::vector<MethodCalibration>& method_calibrations() {
   //    on clear Rayleigh skies. So it (and invariance, below) is searched with a stricter margin
   //    (0.8: no tuning error beyond 4σ) and per-sky rule (0.9): the search's pick on seeds 1 and 3–11
   //    (3,200 scenes), 478 answers, coverage 0.979 (Rayleigh 0.988, vrte 0.927; section 7e).
-  //  - sun_dolp: ×0.5, ×0.5, floor 0.03°, residual ≤ 5°, model misfit ≤ 0.01 (its Rayleigh law
-  //    fits within 1 % of Pmax beyond the noise: clear Rayleigh skies read 0–0.002, Berry's and
-  //    vrte's 0.014–0.12, where its answers were 2.5–4° off at a coverage of 0.66). Chosen over the
-  //    search's pick, which kept 8 vrte answers at a coverage of 0.63, below the rule's 10 answers.
+  //  - sun_dolp: ×0.25 frames, ×0.5 sectors, floor 0.03°, residual ≤ 5°, model misfit ≤ 0.01 (its
+  //    Rayleigh law fits within 1 % of Pmax beyond the noise: clear Rayleigh skies read 0–0.002,
+  //    Berry's and vrte's 0.014–0.12, where its answers were 2.5–4° off at a coverage of 0.66).
+  //    7c's ×0.5 frames covered 347 of 351 answers on seeds 8–14 (0.989, above the band): its error
+  //    lives in parts of the sky (the sector jackknife binds: under ×0.5 sectors a tuning error
+  //    passes 4σ), not in frames. Retuned on seeds 1 and 3–12 (3,500 scenes) under sun_vector's
+  //    stricter rules: 591 answers, coverage 0.9645, largest z 3.9. The search's own pick traded
+  //    the misfit gate for a 40° × misfit term (612 answers, 6 of them vrte at a coverage of 0.83,
+  //    pooled 0.979, the band's edge), so its gate was fixed (section 7f).
   //  - great_circle: ×0.5, ×0.25, floor 0.025°, 0.5° × the unpolarized share, residual ≤ 5°, a
   //    window of at least 60 min, Rayleigh-law misfit ≤ 0.01 (its equal-DoLP sets are great circles
   //    only where DoLP is a function of the angle to the sun; held-out seed 9 caught it 4.6° off at
@@ -309,7 +315,7 @@ const std::vector<MethodCalibration>& method_calibrations() {
        .max_unpolarized_share = 0.3, .sector_inflation = 0.25, .unpolarized_deg = 0.5, .misfit_deg = 40.0},
       {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0003, .max_residual_deg = 5.0,
        .max_unpolarized_share = 0.3, .sector_inflation = 0.25, .elevation_share = 0.25},
-      {.method = "sun_dolp", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0,
+      {.method = "sun_dolp", .inflation = 0.25, .floor_deg = 0.03, .max_residual_deg = 5.0,
        .max_model_misfit = 0.01, .sector_inflation = 0.5},
   };
   return c;
