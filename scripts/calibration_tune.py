@@ -206,8 +206,20 @@ def stats(d, ok, sigma, sel=None):
     inside = int(np.sum(err <= K95 * sg))
     v = int(ok.sum())
     return {"n": n, "valid": v, "yield": round(v / n, 4) if n else math.nan, "lies": lies,
-            "coverage": round(inside / v, 4) if v else math.nan, "median": float(np.median(err)) if v else math.nan,
+            "coverage": round(inside / v, 4) if v else math.nan, "cov95": wilson95(inside, v), "median": float(np.median(err)) if v else math.nan,
             "max": float(err.max()) if v else math.nan}
+
+
+def wilson95(hits, n):
+    """The 95 % Wilson score interval of a share of hits in n (studies/tradeoff_calibration.cpp,
+    wilson_interval95): what a coverage read off few answers can say."""
+    if not n:
+        return None
+    z2n = 1.959963984540054 ** 2 / n
+    p = hits / n
+    centre = (p + 0.5 * z2n) / (1 + z2n)
+    half = math.sqrt(z2n) / (1 + z2n) * math.sqrt(p * (1 - p) + 0.25 * z2n)
+    return (round(max(0.0, centre - half), 3), round(min(1.0, centre + half), 3))
 
 
 def search(m, d, bound):

@@ -358,7 +358,26 @@ TEST_CASE("skypol tradeoff calibration --small: one row per scene and method, a 
     CHECK(num(r, "inside_cone") == inside[m]);
     CHECK(num(r, "lies") == lies[m]);
     CHECK(num(r, "yield") == Approx(valid[m] / 6.0).epsilon(1e-5));
-    if (valid[m] > 0) CHECK(num(r, "coverage") == Approx(static_cast<double>(inside[m]) / valid[m]).epsilon(1e-5));
+    if (valid[m] > 0) {
+      CHECK(num(r, "coverage") == Approx(static_cast<double>(inside[m]) / valid[m]).epsilon(1e-5));
+      // The Wilson interval holds the observed share p; its ends are the true shares π at which p
+      // lies 1.96 standard errors away, (p − π)² = z² π (1 − π) / n (Wilson's definition), and at a
+      // share of 1 (or 0) they have the closed forms n/(n + z²) (or z²/(n + z²)).
+      const double p = num(r, "coverage"), lo = num(r, "coverage_low95"), hi = num(r, "coverage_high95");
+      const double n = valid[m], z2 = 1.959964 * 1.959964;
+      CHECK(lo <= p + 1e-9);
+      CHECK(hi >= p - 1e-9);
+      for (const double end : {lo, hi})
+        if (end > 1e-9 && end < 1 - 1e-9) CHECK((p - end) * (p - end) == Approx(z2 * end * (1 - end) / n).epsilon(1e-3));
+      CHECK(hi - lo > 0.2);  // six scenes cannot place a coverage within the 90–98 % band
+      if (inside[m] == valid[m]) {
+        CHECK(lo == Approx(n / (n + z2)).epsilon(1e-3));
+        CHECK(hi == Approx(1.0));
+      }
+      if (inside[m] == 0) CHECK(hi == Approx(z2 / (n + z2)).epsilon(1e-3));
+    } else {
+      CHECK(r.at("coverage_low95").empty());
+    }
   }
   // Per sky model: the rows of each method add up to its summary row, and each sky's stacks are the
   // scenes drawn with that sky.
