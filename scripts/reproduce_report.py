@@ -454,10 +454,11 @@ def render(r, g):
 
     add("## Left out, and why\n")
     add("- **Real skies.** Both papers compare against measurements (Sun et al.'s 3-CCD camera in Hefei, SkyPole's "
-        "Lucid camera in Marseille, data on OSF); this report is simulation only, so every difference that comes "
-        "from the real sky (multiple and Mie scattering, Pmax varying with the scattering angle, neutral points, "
-        "haze, clouds) is absent. skypol has Berry's and Preetham's models (`sky/`); running the same protocol on "
-        "them is the next step. Sun et al.'s Figs. 3 and 9–12 and SkyPole's Fig. 2 (measurements) are not redrawn.")
+        "Lucid camera in Marseille, data on OSF); this report is simulation only. The VRTE section above brings "
+        "multiple and Mie scattering, the ground and neutral points into it (and the calibration study of "
+        "docs/benchmarks.md, section 7, runs every estimator on Berry's and the VRTE skies with cloud); what no "
+        "simulation here has is a measured sky's own departures (changing haze, real cloud, the instrument's "
+        "calibration errors). Sun et al.'s Figs. 3 and 9–12 and SkyPole's Fig. 2 (measurements) are not redrawn.")
     add("- **The full sensor.** The SkyPole protocol runs on a grid 4× coarser than the IMX250's 2448 × 2048 "
         "pixels, with each pixel's noise that of a real IMX250 pixel: there are 16× fewer pixels to average, so the "
         "noisy rows are pessimistic for the estimators that average many pixels; the coarser grid also makes each "
