@@ -7,9 +7,10 @@
 // given to every method and to auto, with --max-uncertainty (default 5°: StudyOptions). Per stack and method: the error against the truth, the
 // stated σ and 95 % cone. Per method: the yield (share of valid answers), the lie rate (valid
 // with error > 5°, or > 5σ), the coverage (share of valid answers whose 95 % cone holds the
-// truth, with its 95 % Wilson interval), the error distribution, and the σ factor that would have made the coverage exactly
-// 95 % (how skypole/evaluate.cpp's calibration factors are measured: on seeds 1, 3, 4, 5 and 6,
-// with scripts/calibration_tune.py; the held-out check in docs/benchmarks.md uses seed 7). The same per
+// truth, with its 95 % Wilson interval), the error distribution, and the σ factor that would have
+// made the coverage exactly 95 % (how skypole/evaluate.cpp's calibration is read, by
+// scripts/calibration_tune.py, off --uncalibrated runs of tuning seeds; docs/benchmarks.md,
+// section 7, holds seeds out for each method). The same per
 // sky model (calibration_by_sky.csv), and auto against each method on the scenes both answer
 // (calibration_auto.csv).
 #include <algorithm>
@@ -412,8 +413,8 @@ void study_calibration(const StudyOptions& o) {
   };
   const std::vector<std::string> skies = {"rayleigh", "berry", "vrte"};
   Table summary({"method", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",
-                 "coverage_low95", "coverage_high95", "median_error_deg", "p90_error_deg", "p95_error_deg", "max_error_deg", "factor_for_95",
-                 "seed", "binning", "max_uncertainty_deg"});
+                 "coverage_low95", "coverage_high95", "median_error_deg", "p90_error_deg", "p95_error_deg",
+                 "max_error_deg", "factor_for_95", "seed", "binning", "max_uncertainty_deg"});
   // The same per sky model: what a physically based sky (or Berry's neutral points) does to each.
   Table by_sky({"method", "sky", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",
                 "coverage_low95", "coverage_high95", "median_error_deg", "p95_error_deg", "max_error_deg"});
