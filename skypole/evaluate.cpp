@@ -264,8 +264,8 @@ const std::vector<MethodCalibration>& method_calibrations() {
   // out for it, seed 12 for every method (section 7d). sun_vector and invariance, which measure the
   // sky's Rayleigh-law misfit since, were retuned on seeds 1 and 3–11 with it (section 7e); seeds
   // 12–14 are held out for them, 13 and 14 for every method. sun_dolp was retuned on seeds 1 and
-  // 3–12 (section 7f); seed 15 is held out for every method, and seeds 16 and 17 at binning 8, a
-  // user's 306×256 (section 7g: great_circle lied once there, under cloud; seed 18 likewise).
+  // 3–12 (section 7f); seed 15 is held out for every method, and seeds 16–18 at binning 8, a
+  // user's 306×256 (section 7g: great_circle lied once on seed 16, under cloud).
   //  - sun_vector_ephemeris: ×0.5 frames, ×0.25 sectors, floor 0.0003°, 0.25 × its suns'
   //    elevation misfit (PoleEstimate::sun_elevation_misfit_deg), residual ≤ 5° (a saturated
   //    sensor's fit), at most 30 % of the sky unpolarized.
