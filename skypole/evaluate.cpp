@@ -198,17 +198,11 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
     const SkyImages frame = sky_geometry(stack, input);
     const Eigen::Vector3d end_level = tangent_moved(*sharpest, sum / weights);
     const Eigen::Vector3d ncp_level = sharpest->is_north ? end_level : Eigen::Vector3d(-end_level);
-    const PoleEstimate mean = make_estimate("auto", frame, frame.level_from_camera.transpose() * ncp_level, input);
-    out.pole_camera = mean.pole_camera;
-    out.pole_level = mean.pole_level;
-    out.pixel = mean.pixel;
-    out.azimuth_rel_deg = mean.azimuth_rel_deg;
-    out.altitude_deg = mean.altitude_deg;
-    out.latitude_deg = mean.latitude_deg;
-    out.heading_deg = mean.heading_deg;
-    out.is_north = mean.is_north;
+    // The sharpest's answer moved to the mean: its σ stays, its position is the mean's (out.note is
+    // written below from `how`; place_pole fills it only when the bearing is undefined).
+    place_pole(out, frame, frame.level_from_camera.transpose() * ncp_level, input);
     how = "the inverse-variance mean of the agreeing answers, with the σ of the sharpest, " + sharpest->method;
-    if (!mean.heading_deg) how += " (" + mean.note + ")";  // the mean's pole is near the zenith
+    if (!out.heading_deg) how += " (" + out.note + ")";  // the mean's pole is near the zenith
   }
   out.method = "auto";
   out.seconds = total_seconds;

@@ -376,11 +376,8 @@ SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options) {
   return sky;
 }
 
-PoleEstimate make_estimate(std::string method, const SkyImages& sky,
-                           const Eigen::Vector3d& ncp_camera, const InputOptions& options) {
-  PoleEstimate e;
-  e.method = std::move(method);
-  e.valid = true;
+void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& ncp_camera,
+                const InputOptions& options) {
   const Eigen::Vector3d ncp = ncp_camera.normalized();
   const Eigen::Vector3d ncp_level = sky.level_from_camera * ncp;
   // The equator rule (docs/conventions.md): north unless the estimate puts the NCP more than
@@ -403,10 +400,19 @@ PoleEstimate make_estimate(std::string method, const SkyImages& sky,
   } else {
     e.heading_deg = wrap360((e.is_north ? 0.0 : 180.0) - e.azimuth_rel_deg);
   }
+  e.pixel = std::nullopt;
   const auto px = sky.lens->project(e.pole_camera);
   if (px && px->x() >= -0.5 && px->y() >= -0.5 && px->x() <= sky.width - 0.5 &&
       px->y() <= sky.height - 0.5)
     e.pixel = *px;
+}
+
+PoleEstimate make_estimate(std::string method, const SkyImages& sky,
+                           const Eigen::Vector3d& ncp_camera, const InputOptions& options) {
+  PoleEstimate e;
+  e.method = std::move(method);
+  e.valid = true;
+  place_pole(e, sky, ncp_camera, options);
   return e;
 }
 

@@ -107,8 +107,13 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
 // make_estimate reads.
 SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options);
 
-// A valid PoleEstimate for the NCP direction `ncp_camera` (unit, camera frame): fills the pole
-// above the horizon, α_rel, altitude, latitude, heading (or why it is undefined) and the pixel.
+// Sets e's position to the NCP direction `ncp_camera` (camera frame): the pole above the horizon,
+// north or south, α_rel, altitude, latitude, heading (or, in e.note, why it is undefined) and the
+// pixel (none outside the image). Nothing else of e changes.
+void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& ncp_camera,
+                const InputOptions& options);
+
+// A valid PoleEstimate placed at `ncp_camera` (place_pole).
 PoleEstimate make_estimate(std::string method, const SkyImages& sky,
                            const Eigen::Vector3d& ncp_camera, const InputOptions& options);
 
