@@ -303,7 +303,7 @@ const std::vector<MethodCalibration>& method_calibrations() {
       {.method = "classic", .inflation = 6.0, .floor_deg = 0.0, .residual_share = 0.25,
        .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .unpolarized_deg = 2.0},
       {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.025, .max_residual_deg = 5.0, .min_window_min = 60.0,
-       .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 0.5},
+       .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 0.5, .sector_unpolarized = 0.5},
       {.method = "invariance", .inflation = 0.5, .floor_deg = 0.0001, .max_residual_deg = 0.5,
        .sector_inflation = 0.5, .misfit_deg = 80.0},
       {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.1, .max_residual_deg = 5.0,
@@ -496,13 +496,14 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     // error, and at binning 16 a pixel is 1.5°).
     const double residual_excess =
         std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
-    if (cal.unpolarized_deg > 0 && !unpolarized)
+    if ((cal.unpolarized_deg > 0 || cal.sector_unpolarized > 0) && !unpolarized)
       unpolarized = unpolarized_share(prepare_sky_images(stack, input, 1, e.method));
     const double floor = std::sqrt(cal.floor_deg * cal.floor_deg + std::pow(cal.residual_share * residual_excess, 2) +
                                    std::pow(cal.unpolarized_deg * unpolarized.value_or(0.0), 2) +
                                    std::pow(cal.elevation_share * e.sun_elevation_misfit_deg, 2) +
                                    std::pow(cal.misfit_deg * e.model_misfit, 2));
-    set_calibrated_uncertainty(e, jack, cal.inflation, cal.sector_inflation, floor);
+    set_calibrated_uncertainty(e, jack, cal.inflation,
+                               cal.sector_inflation + cal.sector_unpolarized * unpolarized.value_or(0.0), floor);
   } else {
     // Uncalibrated (what the calibration study measures the factors from): both jackknives as
     // measured, unwidened, and a floor of 0.05°.

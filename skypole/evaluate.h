@@ -51,7 +51,7 @@ bool used_by_auto(std::string_view method, bool site_known);
 // 4, 5 and 6 pooled, 1 and 3–7 for sun_dolp, 1 and 3–8 for sun_vector_ephemeris, 1 and 3–9 for
 // great_circle, 1 and 3–11 for sun_vector and invariance (docs/benchmarks.md, sections 7a, 7c, 7d
 // and 7e). The stated covariance is
-//     C = w²·(inflation²·C_frames + sector_inflation²·C_sectors) + s²·I,
+//     C = w²·(inflation²·C_frames + b²·C_sectors) + s²·I,  b = sector_inflation + sector_unpolarized·unpolarized_share
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
 //     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
 //          + (unpolarized_deg·unpolarized_share)² + (elevation_share·sun_elevation_misfit_deg)²
@@ -82,6 +82,12 @@ struct MethodCalibration {
   // every frame shares, which neither jackknife sees in full).
   double sector_inflation = 0.0;
   double unpolarized_deg = 0.0;
+  // The sector factor grows by this per unit of unpolarized share. A cloud's error is shared by every
+  // frame (the cloud stands still) but not by every part of the sky, so under cloud the sector
+  // jackknife measures a bias, where on a clear sky its spread overstates the error (hence factors
+  // under 1). great_circle at binning 8 answered 2.82° off at 6.6σ on a sky 52 % unpolarized whose
+  // raw sector jackknife said 0.99° (section 7h).
+  double sector_unpolarized = 0.0;
   // A σ term elevation_share·sun_elevation_misfit_deg (PoleEstimate: the shared error of the
   // ephemeris' suns that their elevations show and no jackknife resolves).
   double elevation_share = 0.0;
