@@ -48,10 +48,11 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
 bool used_by_auto(std::string_view method, bool site_known);
 
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study on seeds 1, 3,
-// 4, 5 and 6 pooled, 1 and 3–7 for sun_dolp, 1 and 3–8 for sun_vector_ephemeris, 1 and 3–9 for
-// great_circle, 1 and 3–11 for sun_vector and invariance (docs/benchmarks.md, sections 7a, 7c, 7d
-// and 7e). The stated covariance is
-//     C = w²·(inflation²·C_frames + b²·C_sectors) + s²·I,  b = sector_inflation + sector_unpolarized·unpolarized_share
+// 4, 5 and 6 pooled, 1 and 3–8 for sun_vector_ephemeris, 1 and 3–9 for great_circle (and at
+// binning 8 on 1 and 3–5 for its cloud term), 1 and 3–11 for sun_vector and invariance, 1 and 3–12
+// for sun_dolp (docs/benchmarks.md, sections 7a, 7c–7f and 7h). The stated covariance is
+//     C = w²·(inflation²·C_frames + b²·C_sectors) + s²·I,
+//     b = sector_inflation + sector_unpolarized·unpolarized_share
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
 //     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
 //          + (unpolarized_deg·unpolarized_share)² + (elevation_share·sun_elevation_misfit_deg)²

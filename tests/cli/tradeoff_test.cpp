@@ -573,6 +573,19 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(z < 4.0);
     CHECK(z > 3.0);  // the widening is the cloud's, not a blanket one: the cone still means something
   }
+  // Seed 19, scene 50, at binning 8: sun_vector_ephemeris 0.175° off at σ 0.033° (5.4σ) on a clear
+  // Rayleigh sky whose neutral points read 14 % unpolarized, 3 frames in 44 min. The same growth
+  // of its sector factor, read off its tuning seeds' cloudier skies, states σ 0.039° (4.5σ).
+  {
+    const auto raw = replay(19, 50, "sun_vector_ephemeris", " --uncalibrated --max-uncertainty inf", 8);
+    REQUIRE(raw.at("valid") == "1");
+    CHECK(num(raw, "angular_error_deg") == Approx(0.175).margin(0.001));
+    CHECK(num(raw, "unpolarized_share") == Approx(0.137).margin(0.002));
+    const auto row = replay(19, 50, "sun_vector_ephemeris", "", 8);
+    REQUIRE(row.at("valid") == "1");
+    CHECK(num(row, "sigma_deg") == Approx(0.0388).margin(0.0005));
+    CHECK(num(row, "angular_error_deg") / num(row, "sigma_deg") < 5.0);
+  }
 }
 
 TEST_CASE("scripts/benchmarks --small writes the report and its plots", "[cli][tradeoff][report]") {
