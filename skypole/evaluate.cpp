@@ -259,7 +259,9 @@ const std::vector<MethodCalibration>& method_calibrations() {
   // sky's Rayleigh-law misfit since, were retuned on seeds 1 and 3–11 with it (section 7e); seeds
   // 12–14 are held out for them, 13 and 14 for every method. sun_dolp was retuned on seeds 1 and
   // 3–12 (section 7f); seed 15 is held out for every method, and seeds 16–18 at binning 8, a
-  // user's 306×256 (section 7g: great_circle lied once on seed 16, under cloud).
+  // user's 306×256 (section 7g: great_circle lied once on seed 16, under cloud). Section 7h grew
+  // great_circle's and sun_vector_ephemeris' sector factor with the unpolarized share and held out
+  // seeds 19–22 (21 at binning 8 still caught the ephemeris at 6.1σ and classic at 25σ).
   //  - sun_vector_ephemeris: ×0.5 frames, ×(0.25 + 0.5 × the unpolarized share) sectors, floor
   //    0.0003°, 0.25 × its suns' elevation misfit (PoleEstimate::sun_elevation_misfit_deg),
   //    residual ≤ 5° (a saturated sensor's fit), at most 30 % of the sky unpolarized. Its
