@@ -270,7 +270,7 @@ const std::vector<MethodCalibration>& method_calibrations() {
   //    a cloud's error: the same growth of the sector factor brings that band to 0.966 and leaves
   //    one answer past 4σ, coverage 0.984 (0.975–0.990; ×1 per unit: 0.991, above the band), and
   //    held-out seed 19's 0.175° answer at 5.4σ (3 frames, 14 % unpolarized) to 4.5σ (section 7h).
-  //  - sun_vector: ×0.5, ×0.25, floor 0.1°, 0.5° × the unpolarized share, 40° × the sky's
+  //  - sun_vector (until section 7i): ×0.5, ×0.25, floor 0.1°, 0.5° × the unpolarized share, 40° × the sky's
   //    Rayleigh-law misfit (PoleEstimate::model_misfit: a multiply scattering sky moves its suns in
   //    elevation alike in every frame and sector, by more the further the sky departs from the
   //    law), residual ≤ 5°, at most 30 % of the sky unpolarized. Held-out seeds 10 and 11 caught
@@ -279,7 +279,14 @@ const std::vector<MethodCalibration>& method_calibrations() {
   //    still answered 4.08° off at 4.4σ on seed 11 and stated a σ twelve times its median error
   //    on clear Rayleigh skies. So it (and invariance, below) is searched with a stricter margin
   //    (0.8: no tuning error beyond 4σ) and per-sky rule (0.9): the search's pick on seeds 1 and 3–11
-  //    (3,200 scenes), 478 answers, coverage 0.979 (Rayleigh 0.988, vrte 0.927; section 7e).
+  //    (3,200 scenes), 478 answers, coverage 0.979 (Rayleigh 0.988, vrte 0.927; section 7e). When
+  //    the misfit stopped reading the sensor's noise (section 7i), that term no longer covered a
+  //    noisy clear sky's short window (seed 6: 0.58° off at 4.3σ) and seed 11's vrte answer came
+  //    back (4.32° at 4.5σ). Rerun on the same seeds and searched under the same rules, the pick is
+  //    now: ×0.5, ×0.25, floor 0.03°, 1° × the unpolarized share, residual ≤ 5°, a window of at
+  //    least 60 min, at most 50 % unpolarized, and great_circle's and sun_dolp's misfit ≤ 0.01 in
+  //    place of the term: 507 answers, coverage 0.978, largest error 1.09°. It declines a multiply
+  //    scattering sky, as they do; no search with the term kept every tuning error within 4σ.
   //  - sun_dolp: ×0.25 frames, ×0.5 sectors, floor 0.03°, residual ≤ 5°, model misfit ≤ 0.01 (its
   //    Rayleigh law fits within 1 % of Pmax beyond the noise: clear Rayleigh skies read 0–0.002,
   //    Berry's and vrte's 0.014–0.12, where its answers were 2.5–4° off at a coverage of 0.66).
@@ -308,16 +315,21 @@ const std::vector<MethodCalibration>& method_calibrations() {
   //    answers 3.0° and 4.46° off, the second at 4.5σ), coverage 0.971, largest z 3.3; section 7e.
   //  - classic: ×6, its residual beyond 6 pixel angles a quarter counted, 2° × the unpolarized share,
   //    ring anisotropy ≤ 0.2 (the frame-only calibration: no search finds one with answers in the
-  //    band; at binning 16 and 8 it answers 0–2 of 300 random scenes, without a lie).
+  //    band; at binning 16 and 8 it answers 0–2 of 300 random scenes), and great_circle's and
+  //    sun_dolp's Rayleigh-law misfit ≤ 0.01, taken as it is: classic answers too rarely for a
+  //    tuning set to size a gate, and its two lies on vrte skies (held-out seed 21, misfit 0.012; the
+  //    shipped vrte scene, 0.025) were where the law did not hold (section 7i). It waited for a
+  //    misfit that does not read a sensor's noise as a departure (sun_vector.h rayleigh_misfit: the
+  //    paper's Rayleigh sky through the colour sensor read 0.017 before, and reads 0).
   static const std::vector<MethodCalibration> c = {
       {.method = "classic", .inflation = 6.0, .floor_deg = 0.0, .residual_share = 0.25,
-       .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .unpolarized_deg = 2.0},
+       .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .max_model_misfit = 0.01, .unpolarized_deg = 2.0},
       {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.025, .max_residual_deg = 5.0, .min_window_min = 60.0,
        .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 0.5, .sector_unpolarized = 0.5},
       {.method = "invariance", .inflation = 0.5, .floor_deg = 0.0001, .max_residual_deg = 0.5,
        .sector_inflation = 0.5, .misfit_deg = 80.0},
-      {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.1, .max_residual_deg = 5.0,
-       .max_unpolarized_share = 0.3, .sector_inflation = 0.25, .unpolarized_deg = 0.5, .misfit_deg = 40.0},
+      {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0, .min_window_min = 60.0,
+       .max_unpolarized_share = 0.5, .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 1.0},
       {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0003, .max_residual_deg = 5.0,
        .max_unpolarized_share = 0.3, .sector_inflation = 0.25, .sector_unpolarized = 0.5,
        .elevation_share = 0.25},
@@ -460,9 +472,11 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   // the AoLP pattern, move with the same departure, in elevation, alike in every frame, so that its
   // latitude errs by degrees (held-out seed 11); invariance's co-rotating model takes the sky's
   // pattern to be fixed to the sun, which a sky that also darkens and depolarizes towards the
-  // horizon is not (held-out seed 11: 4.46° off at 4.5σ on a clear vrte sky). Measured for their
-  // gates and σ terms.
-  if (method == "great_circle" || method == "sun_vector" || method == "invariance")
+  // horizon is not (held-out seed 11: 4.46° off at 4.5σ on a clear vrte sky); classic's binary
+  // images find where DoLP stays constant, which is the pole only for a sky whose DoLP is a function
+  // of the angle to the sun (held-out seed 21: 23° off at 25σ on a clear vrte sky; the shipped vrte
+  // scene at binning 8: 21° off in bearing inside a 5° cone). Measured for their gates and σ terms.
+  if (method == "great_circle" || method == "sun_vector" || method == "invariance" || method == "classic")
     e.model_misfit = rayleigh_law_misfit(stack, input);
   MethodCalibration cal;
   for (const MethodCalibration& c : method_calibrations())

@@ -33,17 +33,91 @@ std::string_view pole_from_sun_name(PoleFromSun m) { return enum_name(kPoleFromS
 SunSource parse_sun_source(std::string_view name) { return enum_from_name(kSunSourceNames, name, "sun source"); }
 std::string_view sun_source_name(SunSource s) { return enum_name(kSunSourceNames, s); }
 
-double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp) {
+double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
+                      double pmax) {
+  // The residual from the fitted law, so that the law's own curvature (largest near the sun, and
+  // growing with the lag) is not counted as noise.
+  std::vector<double> r(sky.pixels(), 0.0);
+  for (std::size_t i = 0; i < sky.pixels(); ++i)
+    if (sky.valid[i]) {
+      const double c = sun.dot(to_double(sky.ray_camera[i]));
+      r[i] = static_cast<double>(dolp[i]) - pmax * (1 - c * c) / (1 + c * c);
+    }
+  const std::size_t w = static_cast<std::size_t>(sky.width);
   std::vector<double> dd;
+  const auto second_difference = [&](std::size_t a, std::size_t i, std::size_t b) {
+    if (sky.valid[a] && sky.valid[i] && sky.valid[b]) dd.push_back(std::abs(r[a] - 2.0 * r[i] + r[b]));
+  };
+  constexpr int L = kNoiseLagPx;
   for (int y = 0; y < sky.height; ++y)
-    for (int x = 1; x + 1 < sky.width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
-                            static_cast<std::size_t>(x);
-      if (!sky.valid[i - 1] || !sky.valid[i] || !sky.valid[i + 1]) continue;
-      dd.push_back(std::abs(static_cast<double>(dolp[i - 1]) - 2.0 * static_cast<double>(dolp[i]) +
-                            static_cast<double>(dolp[i + 1])));
+    for (int x = 0; x < sky.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x);
+      if (x >= L && x + L < sky.width) second_difference(i - L, i, i + L);
+      if (y >= L && y + L < sky.height) second_difference(i - L * w, i, i + L * w);
     }
   return 1.4826 * quantile(std::move(dd), 0.5) / std::sqrt(6.0);
+}
+
+double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
+                       double pmax) {
+  if (!(pmax > 0)) return 1.0;
+  // The residual from the law at every valid pixel, kept where the fit keeps it (within 3 robust σ,
+  // at least kMinCut: cloud is the fit's outlier, not its misfit) and where the law expects a DoLP
+  // of at least 3 pixel-noise σ (below, the noisy DoLP is biased up, and no law fitted to it follows).
+  const double pixel_noise = dolp_noise_rms(sky, dolp, sun, pmax);
+  std::vector<double> r(sky.pixels(), 0.0), absr;
+  std::vector<std::uint8_t> use(sky.pixels(), 0);
+  for (std::size_t i = 0; i < sky.pixels(); ++i)
+    if (sky.valid[i]) {
+      const double c = sun.dot(to_double(sky.ray_camera[i])), law = pmax * (1 - c * c) / (1 + c * c);
+      r[i] = static_cast<double>(dolp[i]) - law;
+      use[i] = law >= 3 * pixel_noise ? 1 : 0;
+      absr.push_back(std::abs(r[i]));
+    }
+  const double cut = std::max(0.005, 3 * 1.4826 * quantile(absr, 0.5));
+  // Mean residual per block (sun_vector.h: why blocks); two blocks apart, the demosaic's shared
+  // noise is gone.
+  constexpr int B = kNoiseLagPx;
+  const int bw = sky.width / B, bh = sky.height / B;
+  std::vector<double> block(static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh), 0.0);
+  std::vector<std::uint8_t> block_ok(block.size(), 0);
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      double sum = 0;
+      int n = 0;
+      for (int y = by * B; y < (by + 1) * B; ++y)
+        for (int x = bx * B; x < (bx + 1) * B; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
+                                static_cast<std::size_t>(x);
+          if (use[i] && std::abs(r[i]) <= cut) {
+            sum += r[i];
+            ++n;
+          }
+        }
+      const std::size_t k = static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx);
+      if (2 * n >= B * B) {
+        block[k] = sum / n;
+        block_ok[k] = 1;
+      }
+    }
+  double ms = 0;
+  int blocks = 0;
+  std::vector<double> dd;
+  const std::size_t ubw = static_cast<std::size_t>(bw);
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      const std::size_t k = static_cast<std::size_t>(by) * ubw + static_cast<std::size_t>(bx);
+      if (!block_ok[k]) continue;
+      ms += block[k] * block[k];
+      ++blocks;
+      if (bx >= 2 && bx + 2 < bw && block_ok[k - 2] && block_ok[k + 2])
+        dd.push_back(std::abs(block[k - 2] - 2 * block[k] + block[k + 2]));
+      if (by >= 2 && by + 2 < bh && block_ok[k - 2 * ubw] && block_ok[k + 2 * ubw])
+        dd.push_back(std::abs(block[k - 2 * ubw] - 2 * block[k] + block[k + 2 * ubw]));
+    }
+  if (blocks < 10) return 1.0;
+  const double block_noise = 1.4826 * quantile(std::move(dd), 0.5) / std::sqrt(6.0);
+  return std::sqrt(std::max(0.0, ms / blocks - block_noise * block_noise)) / pmax;
 }
 
 std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::vector<float>& dolp,
@@ -190,8 +264,7 @@ RayleighFits fit_rayleigh_law(SkyImages& sky, const stack::Stack& stack, bool sk
     if (!f.starts[t]) return;
     double pmax = 0;
     f.suns[t] = sun_from_dolp(sky, sky.dolp[t], *f.starts[t], &pmax, &f.rms[t], sky_mask);
-    const double noise = dolp_noise_rms(sky, sky.dolp[t]);
-    if (f.suns[t] && pmax > 0) f.misfit[t] = std::sqrt(std::max(0.0, f.rms[t] * f.rms[t] - noise * noise)) / pmax;
+    if (f.suns[t]) f.misfit[t] = rayleigh_misfit(sky, sky.dolp[t], *f.suns[t], pmax);
   });
   return f;
 }

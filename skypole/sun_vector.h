@@ -64,11 +64,33 @@ struct SunVectorResult {
   std::vector<double> sun_quality;           // aolp: λ0/λ1; dolp: DoLP RMS residual (small = clear)
 };
 
-// The rms of a DoLP image's pixel noise, from second differences along rows of valid pixels: for
-// white noise of variance σ², (v[x−1] − 2v[x] + v[x+1]) has variance 6σ², while the sky's smooth
-// pattern adds only its curvature (DoLP ≈ Pmax·θ²/2 near the sun: 5e-4 over three pixels of 1.5°).
-// Robust (1.4826 × the median absolute second difference), so that cloud edges do not count.
-double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp);
+// The rms of a DoLP image's pixel noise about the Rayleigh law fitted to it (sun, pmax), from second
+// differences of the residual at a lag of kNoiseLagPx pixels, along rows and columns of valid
+// pixels: for noise of variance σ² that is independent at that lag, (r[x−L] − 2r[x] + r[x+L]) has
+// variance 6σ², while a smooth departure from the law adds only its curvature. Robust (1.4826 ×
+// the median absolute second difference), so that cloud edges do not count. The lag is the colour
+// DoFP sensor's 4-pixel lattice: its demosaic interpolates each band and polarizer bilinearly
+// between samples 4 pixels apart, so that neighbours share their noise and second differences of
+// neighbours see almost none of it. Even at that lag it reads the colour sensor's noise about
+// 15 % low (0.015 against 0.018 from two noise draws of the same sky), which is why the misfit
+// below is measured on blocks.
+inline constexpr int kNoiseLagPx = 4;
+double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
+                      double pmax);
+
+// How far `dolp` departs from the Rayleigh law fitted to it (sun, pmax) beyond its noise, as a share
+// of pmax (PoleEstimate::model_misfit): the rms over kNoiseLagPx² blocks of the mean residual, less
+// (in quadrature) the blocks' own noise from their second differences two blocks apart. A block
+// holds its pixels within the fit's 3 robust σ (cloud is the fit's outlier, not its misfit) where
+// the law expects at least 3 × the pixel noise (below, the noisy DoLP is biased up: no law fitted to
+// it follows that); it counts with at least half of them. Blocks, because the blocks' noise is a
+// quarter of the pixels' and independent from block to block, so that a sensor's noise that is 2–3
+// × a misfit of 1 % does not read as one: a Rayleigh sky through the colour DoFP sensor read 1.7 %
+// when the residual of each pixel was compared with its neighbours' noise (the level of a multiply
+// scattering sky), and reads 0 so; the vrte sky of scenes/skypole-marseille-vrte.toml 2.5 % both
+// ways. 1 when fewer than 10 blocks count.
+double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
+                       double pmax);
 
 // robust (the default; InputOptions::sky_mask turns it off for before/after measurements): fit,
 // drop the pixels the fit misses by more than 3 robust σ (1.4826·median |residual|), refit twice.
@@ -86,8 +108,7 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
 
 // sun_dolp's per-frame Rayleigh fits of `sky` (masked first when sky_mask, as estimate_sun_vector
 // does): where each fit started (nullopt: no sun-like DoLP minimum above the horizon), the sun it
-// found (nullopt: it failed), its DoLP rms residual, and the misfit: the residual beyond the image's
-// noise (dolp_noise_rms) as a share of the fitted Pmax (PoleEstimate::model_misfit).
+// found (nullopt: it failed), its DoLP rms residual, and its rayleigh_misfit (PoleEstimate::model_misfit).
 struct RayleighFits {
   std::vector<std::optional<Eigen::Vector3d>> starts, suns;
   std::vector<double> rms, misfit;

@@ -533,17 +533,19 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(row.at("why_invalid").find("neutral point") != std::string::npos);
   }
   // Seed 11, scene 292: sun_vector 4.32° off at σ 0.83° on a vrte sky at 47°S, all of it latitude.
-  // The sky departs from Rayleigh's law (misfit 0.023), which its calibration now counts (40° per
-  // unit): its stated cone, 2.55° (σ 1.04°: the error would be 4.2σ), is wider than the study's
-  // 2.5° bound, and it declines saying so.
+  // The sky departs from Rayleigh's law by 2.1 % of its maximum (on 4×4 blocks, beyond their noise;
+  // 0.023 by the pixel measure before section 7i). A 40° per unit σ term declined it on the bound
+  // until then; with the block measure that term stated 0.96° (4.5σ), and sun_vector's retune
+  // declines a sky past 1 % misfit instead, as great_circle and sun_dolp do.
   {
     const auto row = replay(11, 292, "sun_vector");
     CHECK(row.at("valid") == "0");
-    CHECK(row.at("why_invalid").find("95 % cone") != std::string::npos);
+    CHECK(row.at("why_invalid").find("the sky is not the model this method fits") != std::string::npos);
+    CHECK(row.at("why_invalid").find("2.1 %") != std::string::npos);
     const auto raw = replay(11, 292, "sun_vector", " --uncalibrated --max-uncertainty inf");
     REQUIRE(raw.at("valid") == "1");
     CHECK(num(raw, "angular_error_deg") == Approx(4.32).margin(0.01));
-    CHECK(num(raw, "model_misfit") == Approx(0.0232).margin(0.0005));
+    CHECK(num(raw, "model_misfit") == Approx(0.0209).margin(0.0005));
   }
   // Seed 13, scene 115 (held out): 7c's calibration of invariance would have answered this clear
   // Berry sky at 11°S 3.30° off at 3.9σ. Its law misfit, 0.030, counts 2.4° (80° per unit) now:
