@@ -124,6 +124,16 @@ def vrte_section(r, g, add, fig):
         rows.append(cells)
     add(table(["method", "valid (noise-free)", "\\|bearing\\|", "\\|latitude\\|", "valid (sensor)",
                "\\|bearing\\|", "\\|latitude\\|"], rows))
+    # A method that declines every heading says why: the reasons, to their first number's clause.
+    declined = {}
+    for row in v["protocol_rows"]:
+        if row["run"] == "day" and row["valid"] != "1" and row.get("why_invalid"):
+            declined.setdefault(row["method"], set()).add(row["why_invalid"].split(" by ")[0])
+    whole = [m for m in g["METHODS"] if all(P.get(("day", s, int(st["day_frames"]), m), {}).get("valid", 1) == 0
+                                            for s in (False, True))]
+    if whole:
+        add("\n" + ", ".join(whole) + " decline every heading, with and without the sensor: "
+            + "; ".join(f"{m}: \"{'; '.join(sorted(declined.get(m, {'no reason'})))}\"" for m in whole) + ".")
     add(f"\nBeside the paper's real-data figures for the classic algorithm: {g['SKYPOLE_BEARING']}° bearing and "
         f"{g['SKYPOLE_LATITUDE']}° latitude. The sun-based estimators assume a single-scattering pattern (the "
         "E-vector ⟂ the scattering plane), which multiple scattering bends near the neutral points and the horizon; "
