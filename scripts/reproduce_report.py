@@ -1,6 +1,7 @@
 """The text of docs/reproduction.md, from the numbers scripts/reproduce has read (render(r, g))."""
-import os
 import math
+import os
+import re
 
 
 def fmt(v, d=2):
@@ -124,11 +125,15 @@ def vrte_section(r, g, add, fig):
         rows.append(cells)
     add(table(["method", "valid (noise-free)", "\\|bearing\\|", "\\|latitude\\|", "valid (sensor)",
                "\\|bearing\\|", "\\|latitude\\|"], rows))
-    # A method that declines every heading says why: the reasons, to their first number's clause.
+    # A method that declines every heading says why: its distinct reasons, each clause cut before its
+    # figures and parentheses ("without sky sector 2 of 6" and "… 5 of 6" are one reason).
     declined = {}
     for row in v["protocol_rows"]:
         if row["run"] == "day" and row["valid"] != "1" and row.get("why_invalid"):
-            declined.setdefault(row["method"], set()).add(row["why_invalid"].split(" by ")[0])
+            for clause in row["why_invalid"].split("; "):
+                c = re.sub(r"\b\d+ of (\d+)", r"k of \1", clause.split(" (")[0].split(" by ")[0]).strip()
+                if c:
+                    declined.setdefault(row["method"], set()).add(c)
     whole = [m for m in g["METHODS"] if all(P.get(("day", s, int(st["day_frames"]), m), {}).get("valid", 1) == 0
                                             for s in (False, True))]
     if whole:
