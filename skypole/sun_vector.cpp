@@ -33,29 +33,47 @@ std::string_view pole_from_sun_name(PoleFromSun m) { return enum_name(kPoleFromS
 SunSource parse_sun_source(std::string_view name) { return enum_from_name(kSunSourceNames, name, "sun source"); }
 std::string_view sun_source_name(SunSource s) { return enum_name(kSunSourceNames, s); }
 
-double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
-                      double pmax) {
-  // The residual from the fitted law, so that the law's own curvature (largest near the sun, and
-  // growing with the lag) is not counted as noise.
+namespace {
+
+// dolp minus the Rayleigh law pmax·(1 − c²)/(1 + c²), c the cosine to the sun, at every valid pixel
+// (0 elsewhere).
+std::vector<double> law_residual(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
+                                 double pmax) {
   std::vector<double> r(sky.pixels(), 0.0);
   for (std::size_t i = 0; i < sky.pixels(); ++i)
     if (sky.valid[i]) {
       const double c = sun.dot(to_double(sky.ray_camera[i]));
       r[i] = static_cast<double>(dolp[i]) - pmax * (1 - c * c) / (1 + c * c);
     }
-  const std::size_t w = static_cast<std::size_t>(sky.width);
+  return r;
+}
+
+// The rms noise of a width × height grid `v` (row-major, `ok` marking the cells that count), from
+// its second differences `lag` cells apart along rows and columns: for noise independent at that
+// lag each has variance 6σ². Robust: 1.4826 × the median absolute second difference.
+double second_difference_noise(const std::vector<double>& v, const std::vector<std::uint8_t>& ok, int width,
+                               int height, int lag) {
+  const std::size_t w = static_cast<std::size_t>(width), L = static_cast<std::size_t>(lag);
   std::vector<double> dd;
-  const auto second_difference = [&](std::size_t a, std::size_t i, std::size_t b) {
-    if (sky.valid[a] && sky.valid[i] && sky.valid[b]) dd.push_back(std::abs(r[a] - 2.0 * r[i] + r[b]));
+  const auto add = [&](std::size_t a, std::size_t i, std::size_t b) {
+    if (ok[a] && ok[i] && ok[b]) dd.push_back(std::abs(v[a] - 2.0 * v[i] + v[b]));
   };
-  constexpr int L = kNoiseLagPx;
-  for (int y = 0; y < sky.height; ++y)
-    for (int x = 0; x < sky.width; ++x) {
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x);
-      if (x >= L && x + L < sky.width) second_difference(i - L, i, i + L);
-      if (y >= L && y + L < sky.height) second_difference(i - L * w, i, i + L * w);
+      if (x >= lag && x + lag < width) add(i - L, i, i + L);
+      if (y >= lag && y + lag < height) add(i - L * w, i, i + L * w);
     }
   return 1.4826 * quantile(std::move(dd), 0.5) / std::sqrt(6.0);
+}
+
+}  // namespace
+
+double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
+                      double pmax) {
+  // On the residual from the fitted law, so that the law's own curvature (largest near the sun, and
+  // growing with the lag) is not counted as noise.
+  return second_difference_noise(law_residual(sky, dolp, sun, pmax), sky.valid, sky.width, sky.height, kNoiseLagPx);
 }
 
 double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
@@ -64,23 +82,25 @@ double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, con
   // The residual from the law at every valid pixel, kept where the fit keeps it (within 3 robust σ,
   // at least kMinCut: cloud is the fit's outlier, not its misfit) and where the law expects a DoLP
   // of at least 3 pixel-noise σ (below, the noisy DoLP is biased up, and no law fitted to it follows).
-  const double pixel_noise = dolp_noise_rms(sky, dolp, sun, pmax);
-  std::vector<double> r(sky.pixels(), 0.0), absr;
+  const std::vector<double> r = law_residual(sky, dolp, sun, pmax);
+  const double pixel_noise = second_difference_noise(r, sky.valid, sky.width, sky.height, kNoiseLagPx);
+  std::vector<double> absr;
   std::vector<std::uint8_t> use(sky.pixels(), 0);
   for (std::size_t i = 0; i < sky.pixels(); ++i)
     if (sky.valid[i]) {
-      const double c = sun.dot(to_double(sky.ray_camera[i])), law = pmax * (1 - c * c) / (1 + c * c);
-      r[i] = static_cast<double>(dolp[i]) - law;
+      const double law = static_cast<double>(dolp[i]) - r[i];
       use[i] = law >= 3 * pixel_noise ? 1 : 0;
       absr.push_back(std::abs(r[i]));
     }
-  const double cut = std::max(0.005, 3 * 1.4826 * quantile(absr, 0.5));
+  const double cut = std::max(0.005, 3 * 1.4826 * quantile(std::move(absr), 0.5));
   // Mean residual per block (sun_vector.h: why blocks); two blocks apart, the demosaic's shared
   // noise is gone.
   constexpr int B = kNoiseLagPx;
   const int bw = sky.width / B, bh = sky.height / B;
   std::vector<double> block(static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh), 0.0);
   std::vector<std::uint8_t> block_ok(block.size(), 0);
+  double ms = 0;
+  int blocks = 0;
   for (int by = 0; by < bh; ++by)
     for (int bx = 0; bx < bw; ++bx) {
       double sum = 0;
@@ -94,29 +114,15 @@ double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, con
             ++n;
           }
         }
+      if (2 * n < B * B) continue;
       const std::size_t k = static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx);
-      if (2 * n >= B * B) {
-        block[k] = sum / n;
-        block_ok[k] = 1;
-      }
-    }
-  double ms = 0;
-  int blocks = 0;
-  std::vector<double> dd;
-  const std::size_t ubw = static_cast<std::size_t>(bw);
-  for (int by = 0; by < bh; ++by)
-    for (int bx = 0; bx < bw; ++bx) {
-      const std::size_t k = static_cast<std::size_t>(by) * ubw + static_cast<std::size_t>(bx);
-      if (!block_ok[k]) continue;
+      block[k] = sum / n;
+      block_ok[k] = 1;
       ms += block[k] * block[k];
       ++blocks;
-      if (bx >= 2 && bx + 2 < bw && block_ok[k - 2] && block_ok[k + 2])
-        dd.push_back(std::abs(block[k - 2] - 2 * block[k] + block[k + 2]));
-      if (by >= 2 && by + 2 < bh && block_ok[k - 2 * ubw] && block_ok[k + 2 * ubw])
-        dd.push_back(std::abs(block[k - 2 * ubw] - 2 * block[k] + block[k + 2 * ubw]));
     }
   if (blocks < 10) return 1.0;
-  const double block_noise = 1.4826 * quantile(std::move(dd), 0.5) / std::sqrt(6.0);
+  const double block_noise = second_difference_noise(block, block_ok, bw, bh, 2);
   return std::sqrt(std::max(0.0, ms / blocks - block_noise * block_noise)) / pmax;
 }
 
