@@ -37,6 +37,7 @@ void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& whi
   meta.row().set("key", "uncalibrated").set("value", o.uncalibrated);
   meta.row().set("key", "no_cloud_gate").set("value", o.no_cloud_gate);
   meta.row().set("key", "no_sky_mask").set("value", o.no_sky_mask);
+  meta.row().set("key", "noise_draw").set("value", o.noise_draw);
   std::string methods;
   for (const std::string& m : o.methods) methods += (methods.empty() ? "" : ",") + m;
   meta.row().set("key", "methods").set("value", methods.empty() ? std::string("all") : methods);
@@ -91,6 +92,10 @@ void add_tradeoff(CLI::App& app) {
                   "calibration: run only these scenes of the seeded population, comma-separated indices (the CSV's "
                   "`stack` column; default: all), the same scenes as in the whole run")
       ->delimiter(',');
+  cmd->add_option("--noise-draw", a->options.noise_draw,
+                  "calibration: the sensor's noise draw (0: each scene's own; k > 0: new noise for the same scenes, "
+                  "their noise replicates)")
+      ->check(CLI::Range(0, 1000000));
   cmd->callback([a] {
     std::vector<const studies::tradeoff::Study*> run;
     for (const studies::tradeoff::Study& s : studies::tradeoff::studies())

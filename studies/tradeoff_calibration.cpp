@@ -181,7 +181,7 @@ std::shared_ptr<const camera::Camera> make_camera(const Draw& d, int binning) {
                                           camera::world_from_heading_tilt_roll(d.heading, d.tilt, d.roll));
 }
 
-stack::Stack render_draw(const Draw& d, int binning) {
+stack::Stack render_draw(const Draw& d, int binning, int noise_draw) {
   auto cam = make_camera(d, binning);
   sky::SkySpec sky;
   sky.model = d.sky_model;
@@ -223,7 +223,9 @@ stack::Stack render_draw(const Draw& d, int binning) {
   }
   if (d.sensor != "none") {
     scene::SensorSpec sensor;
-    sensor.dofp = paper_sensor(binning, d.exposure_us, d.seed);
+    // Noise draw k > 0 keys the sensor's noise off the scene's seed + k·1000003 (the scenes' seeds
+    // are random 64-bit numbers: no two draws of the population share a key in practice).
+    sensor.dofp = paper_sensor(binning, d.exposure_us, d.seed + static_cast<std::uint64_t>(noise_draw) * 1000003ULL);
     sensor.dofp.gain_dn_per_e *= d.gain_factor;
     // The vrte sky's S0 is I/F (≈ 0.01–1 sr⁻¹), not the grey models' unit (docs/scenes.md): expose
     // it as the grey skies are, its brightest sky (99th percentile of frame 0's S0) at the
@@ -293,7 +295,7 @@ void study_calibration(const StudyOptions& o) {
   for (int k = 0; k < count; ++k) {
     const Draw d = draw_scene(rng, k);  // drawn even when not chosen: the next scenes stay the same
     if (!chosen(k)) continue;
-    const stack::Stack stack = render_draw(d, binning);
+    const stack::Stack stack = render_draw(d, binning, o.noise_draw);
     // The cloud gate's measure (skypole/cloud_share.h), written for every row so that its
     // threshold can be read off this table.
     const double unpolarized =

@@ -39,6 +39,11 @@ struct StudyOptions {
   // in the whole run: every scene is still drawn, in order, and only these are rendered. To replay
   // the answers a run found wrong.
   std::vector<int> scenes;
+  // calibration: the sensor's noise draw. 0: each scene's own (the seed's); k > 0: another draw of
+  // the shot, read and dark noise for the same scenes (sky, cloud, camera, window and exposure
+  // unchanged), so that a calibration can be checked on the noise replicates of its tuning scenes:
+  // a few-group jackknife's σ is itself noisy, and one draw of a scene shows only one of its tails.
+  int noise_draw = 0;
 };
 
 struct Study {
