@@ -14,7 +14,7 @@ calibration (skypole/evaluate.cpp, method_calibrations()) can be tried here with
 anything again:
     sigma^2 = lmax(w^2 (a^2 C_frames + b^2 C_sectors)) + floor^2
               + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2
-              + (e*sun_elevation_misfit_deg)^2 + (m*model_misfit)^2 + (colour, for a stack in R, G, B)^2,
+              + (e*sun_elevation_misfit_deg)^2 + (m*model_misfit)^2,
     b = sector + sector_unpol*unpolarized_share,
 w^2 the widening for the jackknives' few groups (uncertainty.h, few_groups_widening2: the F(2, nu)
 95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of min(frames, 6) - 1 and
@@ -26,7 +26,7 @@ err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] (and, with
 figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
 calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, elev, misfit_deg, sector_unpol, colour, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
+pixels, elev, misfit_deg, sector_unpol, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
 --auto ranked|sharpest|ephemeris|ephemeris_mean|mean|mean_raw: auto returns the agreeing answer of
@@ -42,7 +42,7 @@ site (no sun_vector_ephemeris: an imported capture without [site]).
 seeds and counts hold replace the runs' (a method changed after the run).
 --only METHOD ...: search or apply these methods only.
 --grid NAME=V,V,...: search only these values of one grid (NAME: factors, sectors, floors, unpols,
-shares, pixels, elevs, misfit_degs, sector_unpols, colours, or a gate's: res_c, win_c, unpol_c, aniso_c, misfit_c; inf for
+shares, pixels, elevs, misfit_degs, sector_unpols, or a gate's: res_c, win_c, unpol_c, aniso_c, misfit_c; inf for
 no gate), to make a search with many dimensions affordable.
 --plot FILE.png: the reliability diagram (stated 95 % cone against error; share inside per bin).
 A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
@@ -183,8 +183,7 @@ def sigma_of(d, c):
         C = C * jackknife_factor2(d, A, B, b)[:, None]
     excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
     iso = (c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
-           + (c.get("elev", 0.0) * d["elev"]) ** 2 + (c.get("misfit_deg", 0.0) * d["misfit"]) ** 2
-           + np.where(d["sensor"] == "colour", c.get("colour", 0.0) ** 2, 0.0))
+           + (c.get("elev", 0.0) * d["elev"]) ** 2 + (c.get("misfit_deg", 0.0) * d["misfit"]) ** 2)
     return np.sqrt(np.maximum(lmax(C[:, 0], C[:, 1], C[:, 2]), 0.0) + iso)
 
 
@@ -266,13 +265,9 @@ def search(m, d, bound):
     # The sector factor's growth with the unpolarized share (sigma_of; section 7h): not searched
     # unless asked (--grid sector_unpols=...), so that the searches of sections 7a-7g are unchanged.
     sector_unpols = [0.0]
-    # The colour mosaic's term (MethodCalibration::colour_deg; section 7j): a stack in R, G, B came
-    # through a colour DoFP sensor, whose demosaic interpolates each band's polarizers across 4 px
-    # and so moves every frame's answer alike. Not searched unless asked (--grid colours=...).
-    colours = [0.0]
     grids = {"factors": factors, "sectors": sectors, "floors": floors, "unpols": unpols, "shares": shares,
              "pixels": pixels, "elevs": elevs, "misfit_degs": misfit_degs, "sector_unpols": sector_unpols,
-             "colours": colours, "res_c": res_c, "win_c": win_c,
+             "res_c": res_c, "win_c": win_c,
              "unpol_c": unpol_c, "aniso_c": aniso_c, "misfit_c": misfit_c}
     for k, v in GRID.items():
         grids[k][:] = v
@@ -287,16 +282,15 @@ def search(m, d, bound):
     ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"], g["max_misfit"])
                            if math.isfinite(x)) + (g["min_window"] > 0) for g in gates])
     err = np.nan_to_num(d["err"], nan=1e9)
-    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs, misfit_degs, sector_unpols,
-                                    colours))
+    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs, misfit_degs, sector_unpols))
     found = []
     chunk = 512
     for start in range(0, len(combos), chunk):
         part = combos[start:start + chunk]
         cone_ok, lie_v, inside_v = [], [], []
-        for f, b, fl, u, sh, px, el, mt, su, co in part:
+        for f, b, fl, u, sh, px, el, mt, su in part:
             sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px,
-                                 "elev": el, "misfit_deg": mt, "sector_unpol": su, "colour": co, "dof": True})
+                                 "elev": el, "misfit_deg": mt, "sector_unpol": su, "dof": True})
             ok = K95 * sigma <= bound
             cone_ok.append(ok)
             lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
@@ -320,11 +314,11 @@ def search(m, d, bound):
                     bad = (vs >= SKY_MIN_ANSWERS) & (ins < MIN_SKY_COVERAGE * vs)
                     good[g_[bad], j_[bad]] = False
         for g, j in zip(*np.nonzero(good)):
-            f, b, fl, u, sh, px, el, mt, su, co = part[j]
-            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0) + (mt > 0) + (su > 0) + (co > 0)
+            f, b, fl, u, sh, px, el, mt, su = part[j]
+            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0) + (mt > 0) + (su > 0)
             found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
                           {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "elev": el,
-                           "misfit_deg": mt, "sector_unpol": su, "colour": co, "dof": True,
+                           "misfit_deg": mt, "sector_unpol": su, "dof": True,
                            **gates[g]}))
     if not found:
         return None
@@ -430,10 +424,10 @@ def main():
                     "answers (0: pooled only)")
     ap.add_argument("--grid", action="append", default=[], metavar="NAME=V,V,...",
                     help="search only these values of one grid (factors, sectors, floors, unpols, shares, pixels, "
-                    "elevs, misfit_degs, sector_unpols, colours; res_c, win_c, unpol_c, aniso_c, misfit_c)")
+                    "elevs, misfit_degs, sector_unpols; res_c, win_c, unpol_c, aniso_c, misfit_c)")
     a = ap.parse_args()
     global MAX_COVERAGE, MARGIN, MIN_SKY_COVERAGE
-    known = ("factors", "sectors", "floors", "unpols", "shares", "pixels", "elevs", "misfit_degs", "sector_unpols", "colours", "res_c", "win_c",
+    known = ("factors", "sectors", "floors", "unpols", "shares", "pixels", "elevs", "misfit_degs", "sector_unpols", "res_c", "win_c",
              "unpol_c", "aniso_c", "misfit_c")
     for g in a.grid:
         name, _, values = g.partition("=")
