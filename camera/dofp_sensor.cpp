@@ -351,4 +351,35 @@ void demosaic_color_bilinear_into(const DofpSensor& s, std::span<const std::uint
   }
 }
 
+double clip_level_dn(const DofpSensor& s) {
+  const double max_dn = std::ldexp(1.0, s.adc_bits) - 1;
+  const double well_dn = s.gain_dn_per_e * (s.full_well_e - 4 * s.read_noise_e) + s.black_level_dn;
+  return std::min(max_dn, std::floor(well_dn));
+}
+
+std::vector<std::uint8_t> clipped_pixels(const DofpSensor& s, std::span<const std::uint16_t> raw) {
+  const int w = s.width, h = s.height;
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
+  const double level = clip_level_dn(s);
+  const int reach = s.color_filter == ColorFilter::none ? 1 : 3;  // demosaic_core's period − 1
+  // A separable dilation: along the rows, then down the columns.
+  std::vector<std::uint8_t> rows(n, 0), out(n, 0);
+  for_each_row(h, [&](int r) {
+    const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(w);
+    for (int c = 0; c < w; ++c) {
+      if (!(raw[row + c] >= level)) continue;
+      for (int k = std::max(0, c - reach); k <= std::min(w - 1, c + reach); ++k) rows[row + k] = 1;
+    }
+  });
+  for_each_row(h, [&](int r) {
+    const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(w);
+    for (int k = std::max(0, r - reach); k <= std::min(h - 1, r + reach); ++k) {
+      const std::size_t other = static_cast<std::size_t>(k) * static_cast<std::size_t>(w);
+      for (int c = 0; c < w; ++c) out[row + c] |= rows[other + c];
+    }
+  });
+  return out;
+}
+
 }  // namespace skypol::camera

@@ -111,4 +111,16 @@ std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& sensor,
 void demosaic_color_bilinear_into(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
                                   Demosaic mode, std::array<StokesPlanes, 3>& out);
 
+// The raw value (DN) at and above which a pixel reads as clipped: its full well (the read noise,
+// added after the well clips, scatters clipped readings about it, so 4 of its σ below) or the
+// ADC's top, whichever is lower.
+double clip_level_dn(const DofpSensor& sensor);
+// Per pixel of the demosaic's output, 1 where it read a clipped raw value: a raw pixel at or above
+// clip_level_dn within its footprint (±1 pixel on a mono sensor's 2-pixel lattices, ±3 on a colour
+// one's 4-pixel lattices). There the Stokes vector is wrong, and not by noise: a clipped polarizer
+// reads less than it saw, so DoLP falls and AoLP turns away from that polarizer's angle, alike in
+// every frame (a mono sensor 80 % past full well at the brightest sky moved sun_vector_ephemeris'
+// heading by 0.28°, 6σ, in every one of 40 noise draws: docs/benchmarks-calibration.md, 7k).
+std::vector<std::uint8_t> clipped_pixels(const DofpSensor& sensor, std::span<const std::uint16_t> raw);
+
 }  // namespace skypol::camera

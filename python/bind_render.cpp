@@ -51,9 +51,8 @@ struct Setup {
     ro.seed = sc.render.seed;
     ro.bands = sc.render.bands;
     ro.channels = channels ? *channels : sc.output.channels;
-    kept = render::channel_names(ro);
-    keep_raw = contains(ro.channels, "raw");
-    if (keep_raw) kept.emplace_back("raw");
+    kept = render::kept_channels(render::channel_names(ro), ro.channels, sc.sensor.has_value());
+    keep_raw = contains(kept, "raw");
     if (sc.sensor) {
       for (const char* c : {"S0", "S1", "S2", "mask"}) {
         if (!contains(ro.channels, c)) ro.channels.emplace_back(c);

@@ -146,9 +146,8 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   // The frames below are this function's own (and the next stack's): nothing but the renderer
   // and the sensor stage, which resets the token, writes them.
   ro.reuse_cleared = true;
-  std::vector<std::string> written = channel_names(ro);
-  const bool keep_raw = std::find(ro.channels.begin(), ro.channels.end(), "raw") != ro.channels.end();
-  if (keep_raw) written.emplace_back("raw");
+  const std::vector<std::string> written = kept_channels(channel_names(ro), ro.channels, scene.sensor.has_value());
+  const bool keep_raw = std::find(written.begin(), written.end(), "raw") != written.end();
   // A sensor measures S0, S1, S2 whatever the file keeps, and previews show them;
   // the writer writes only what the file keeps.
   std::vector<const char*> needed;

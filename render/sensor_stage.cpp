@@ -55,6 +55,21 @@ void erode_mask(std::vector<float>& mask, int w, int h) {
   }
 }
 
+// A pixel whose demosaic read a clipped raw value is masked (camera::clipped_pixels): it sees sky,
+// but not a Stokes vector anyone should fit. Its S0 stays, so that the picture shows the glare,
+// and the "clipped" channel says which sky pixels were masked so: sky the camera saw but could not
+// read, which the cloud gate counts as it counts unpolarized sky (skypole/cloud_share.h).
+void mask_clipped(const camera::DofpSensor& d, const std::vector<std::uint16_t>& raw, std::vector<float>& mask,
+                  std::vector<float>& clipped_sky) {
+  const std::vector<std::uint8_t> clipped = camera::clipped_pixels(d, raw);
+  clipped_sky.assign(mask.size(), 0.0f);
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!clipped[i]) continue;
+    if (mask[i] > 0.0f) clipped_sky[i] = 1.0f;
+    mask[i] = 0.0f;
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
@@ -63,6 +78,14 @@ std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
     for (const char* s : {"S0.", "S1.", "S2."}) names.push_back(s + b);
   }
   return names;
+}
+
+std::vector<std::string> kept_channels(std::vector<std::string> rendered, const std::vector<std::string>& asked,
+                                       bool has_sensor) {
+  const auto has = [](const std::vector<std::string>& v, const char* c) { return std::find(v.begin(), v.end(), c) != v.end(); };
+  if (has(asked, "raw")) rendered.emplace_back("raw");
+  if (has_sensor && has(rendered, "mask")) rendered.emplace_back("clipped");
+  return rendered;
 }
 
 void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
@@ -86,6 +109,7 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
     camera::StokesPlanes planes = take_planes(b, frame);  // the raw frame no longer needs them
     camera::demosaic_bilinear_into(d, raw, sensor.demosaic, planes);
     finish_band(b, mask, std::move(planes), frame);
+    if (mask) mask_clipped(d, raw, *mask, frame.channels["clipped"]);
     if (keep_raw) frame.channels["raw"].assign(raw.begin(), raw.end());
     return;
   }
@@ -101,6 +125,7 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
   for (std::size_t i = 0; i < 3; ++i) measured[i] = take_planes(bands[i], frame);
   camera::demosaic_color_bilinear_into(d, raw, sensor.demosaic, measured);
   for (std::size_t i = 0; i < 3; ++i) finish_band(bands[i], mask, std::move(measured[i]), frame);
+  if (mask) mask_clipped(d, raw, *mask, frame.channels["clipped"]);
   if (keep_raw) frame.channels["raw"].assign(raw.begin(), raw.end());
 }
 

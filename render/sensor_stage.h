@@ -4,7 +4,9 @@
 // them. DoLP and AoLP are then recomputed from the measured Stokes with the usual rules
 // (stack/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
 // zeros, as without a sensor; so do their 8 neighbours, whose demosaic mixed in those dark pixels
-// (the mask is eroded by one pixel). Run only when the scene has a [sensor] section.
+// (the mask is eroded by one pixel). A pixel whose demosaic read a clipped raw value is masked too,
+// its S0 kept; channel "clipped" is 1 on the sky pixels masked so (camera::clipped_pixels). Run
+// only when the scene has a [sensor] section.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +20,11 @@ namespace skypol::render {
 
 // The Stokes channels the sensor stage needs from the renderer for these bands.
 std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands);
+
+// The channels a render keeps, from the renderer's own (render::channel_names) and the channels
+// the scene asked for: "raw" if asked (a sensor's mosaic), and "clipped" beside a sensor's "mask".
+std::vector<std::string> kept_channels(std::vector<std::string> rendered, const std::vector<std::string>& asked,
+                                       bool has_sensor);
 
 // Replaces S0/S1/S2 (and DoLP/AoLP, if present) of every band by the measured ones. `frame_index`
 // keys the noise: the same scene gives the same noisy frames on any machine and thread count.

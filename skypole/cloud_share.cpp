@@ -9,28 +9,48 @@
 
 namespace skypol::skypole {
 
-double unpolarized_share(const SkyImages& sky) {
-  if (sky.frames() == 0 || sky.valid_count == 0) return 0.0;
+namespace {
+
+struct Shares {
+  double unpolarized = 0;  // low DoLP or clipped
+  double clipped = 0;      // clipped alone
+};
+
+Shares away_from_sun_shares(const SkyImages& sky) {
+  if (sky.frames() == 0 || sky.valid_count == 0) return {};
   const auto suns = find_suns(sky, sky.dolp);
   const double cos40 = std::cos(40.0 * std::numbers::pi / 180.0);
-  double total = 0;
+  Shares total;
   for (std::size_t f = 0; f < sky.frames(); ++f) {
     const std::vector<float>& img = sky.dolp[f];
     const float cut = 0.2f * valid_quantile(img, sky, 0.99);
-    std::size_t low = 0, counted = 0;
+    std::size_t low = 0, clipped = 0, counted = 0;
+    const auto away = [&](const Eigen::Vector3f& ray) {  // not near the sun (c > 0) or the antisun (c < 0)
+      return !suns[f] || std::abs(ray.cast<double>().dot(*suns[f])) <= cos40;
+    };
     for (std::size_t i = 0; i < img.size(); ++i) {
-      if (!sky.valid[i]) continue;
-      if (suns[f]) {
-        const double c = sky.ray_camera[i].cast<double>().dot(*suns[f]);
-        if (std::abs(c) > cos40) continue;  // near the sun (c > 0) or the antisun (c < 0)
-      }
+      if (!sky.valid[i] || !away(sky.ray_camera[i])) continue;
       ++counted;
       low += img[i] < cut ? 1 : 0;
     }
-    total += counted ? static_cast<double>(low) / static_cast<double>(counted) : 0.0;
+    for (const Eigen::Vector3f& r : sky.clipped_rays) {  // sky the sensor could not read
+      if (!away(r)) continue;
+      ++counted;
+      ++clipped;
+    }
+    if (counted == 0) continue;
+    total.unpolarized += static_cast<double>(low + clipped) / static_cast<double>(counted);
+    total.clipped += static_cast<double>(clipped) / static_cast<double>(counted);
   }
-  return total / static_cast<double>(sky.frames());
+  const auto frames = static_cast<double>(sky.frames());
+  return {total.unpolarized / frames, total.clipped / frames};
 }
+
+}  // namespace
+
+double unpolarized_share(const SkyImages& sky) { return away_from_sun_shares(sky).unpolarized; }
+
+double clipped_share(const SkyImages& sky) { return away_from_sun_shares(sky).clipped; }
 
 double ring_anisotropy(const SkyImages& sky) {
   if (sky.frames() == 0 || sky.valid_count == 0) return 0.0;

@@ -7,7 +7,9 @@
 // (Rayleigh: sin²γ/(1+cos²γ) < 0.2 for γ < 35°; Berry's neutral points lie within ≈ 25° of them).
 // So per frame: leave out the pixels within 40° of the sun and of the antisun (find_suns; a frame
 // without a sun-like minimum keeps all its pixels), and count the share of the rest whose DoLP is
-// below 20 % of the frame's 99th percentile. The stack's share is the mean over its frames.
+// below 20 % of the frame's 99th percentile. Sky a sensor masked because it clipped there
+// (SkyImages::clipped_rays) counts as such a pixel: a clipped cloud is still a cloud, and clipped
+// sky is sky no method reads. The stack's share is the mean over its frames.
 // A clear sky scores ≈ 0; a sky half under thick cloud ≈ ½.
 #pragma once
 
@@ -16,6 +18,8 @@
 namespace skypol::skypole {
 
 double unpolarized_share(const SkyImages& sky);
+// The part of unpolarized_share that is clipped sky (0 without a sensor's "clipped" channel).
+double clipped_share(const SkyImages& sky);
 
 // How far the sky's DoLP is from a function of the angle to the sun (Rayleigh's and every
 // single-scattering sky's shape): per frame, around the lowest DoLP above the horizon (find_suns:

@@ -77,6 +77,7 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
   const std::size_t n = sky.pixels();
 
   sky.valid.assign(n, 1);
+  std::vector<std::uint8_t> clipped;  // 1: a sky pixel the sensor masked for clipping, in some frame
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
     const stack::Frame& f = stack.frames[k];
     if (f.width != sky.width || f.height != sky.height)
@@ -99,6 +100,11 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
     for (std::size_t i = 0; i < n; ++i) {
       if (!std::isfinite((*d)[i])) sky.valid[i] = 0;
       if (mask && !((*mask)[i] > 0.5f)) sky.valid[i] = 0;
+    }
+    if (const std::vector<float>* c = find_channel(f, "clipped"); c && c->size() == n) {
+      clipped.resize(n, 0);
+      for (std::size_t i = 0; i < n; ++i)
+        if ((*c)[i] > 0.5f) clipped[i] = 1;
     }
     sky.dolp.push_back(*d);
     if (k > 0 && f.truth.time < stack.frames[k - 1].truth.time)
@@ -127,10 +133,20 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
     }
   });
   for (std::size_t i = 0; i < n; ++i) sky.valid_count += sky.valid[i] ? 1 : 0;
+  // The clipped sky, in pixel order, above the same elevation: no method reads it (it is not
+  // valid), but the cloud gate counts it as sky it could not read (cloud_share.h).
+  for (std::size_t i = 0; i < clipped.size(); ++i) {
+    if (!clipped[i] || sky.valid[i]) continue;
+    const int x = static_cast<int>(i % static_cast<std::size_t>(sky.width));
+    const int y = static_cast<int>(i / static_cast<std::size_t>(sky.width));
+    const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
+    if (r && (sky.level_from_camera * *r).z() >= min_z) sky.clipped_rays.push_back(r->normalized().cast<float>());
+  }
   if (sky.valid_count == 0)
     throw std::invalid_argument(m + ": no pixel sees sky above " +
                                 std::to_string(options.min_elevation_deg) +
-                                "° elevation (check the mask channel, the lens and the tilt)");
+                                "° elevation (check the mask channel, which a sensor also clears where it clipped, the lens "
+                                "and the tilt)");
   return sky;
 }
 

@@ -28,6 +28,9 @@ struct SkyImages {
   Eigen::Matrix3d level_from_camera = Eigen::Matrix3d::Identity();
   std::vector<std::uint8_t> valid;             // 1 = sky pixel usable in every frame
   std::vector<Eigen::Vector3f> ray_camera;     // unit direction per pixel (zero where !valid)
+  // Directions of the sky pixels a sensor masked because its demosaic read a clipped raw value in
+  // some frame (the stack's "clipped" channel, render/sensor_stage.h), if not valid otherwise.
+  std::vector<Eigen::Vector3f> clipped_rays;
   std::vector<std::vector<float>> dolp;        // per frame, as in the stack
   std::vector<double> times_s;                 // seconds since frame 0
   bool times_known = false;                    // false: all frames carry the same time

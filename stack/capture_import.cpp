@@ -198,6 +198,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
   const double offset_dn = d.black_level_dn + d.gain_dn_per_e * d.dark_current_e_s * d.exposure_us * 1e-6;
 
   std::vector<std::vector<std::uint16_t>> raws;
+  std::vector<std::vector<std::uint8_t>> clipped;  // per frame: camera::clipped_pixels
   std::vector<scene::Truth> truths;
   for (std::size_t i = 0; i < spec.frames.size(); ++i) {
     const std::string& path = spec.frames[i];
@@ -207,6 +208,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
                                                               ", the [camera] is " + std::to_string(w) + "x" + std::to_string(h));
     }
     std::vector<std::uint16_t> dn = to_dn(r, path, spec.right_shift, max_dn);
+    clipped.push_back(camera::clipped_pixels(d, dn));  // the camera's own readings, before corrections
     if (!dark.empty() || !flat.empty()) {
       // Corrections in DN, rounded back to whole DN for the demosaic (adds ≤ 0.5 DN).
       for (std::size_t k = 0; k < dn.size(); ++k) {
@@ -260,6 +262,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
     if (colour) channels.push_back(b);
   }
   channels.emplace_back("mask");
+  channels.emplace_back("clipped");
 
   StackHeader header;
   header.bands = bands;
@@ -282,7 +285,17 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
       std::array<camera::StokesPlanes, 3> rgb = camera::demosaic_color_bilinear(d, raws[i], sensor.demosaic);
       for (std::size_t b = 0; b < 3; ++b) put_band(bands[b], std::move(rgb[b]), mask, true, f);
     }
-    f.channels["mask"] = mask;
+    // As a render's sensor stage: a pixel whose demosaic read a clipped raw value is masked
+    // (camera::clipped_pixels), its S0 kept, and channel "clipped" marks the sky masked so.
+    std::vector<float>& m = f.channels["mask"] = mask;
+    std::vector<float>& c = f.channels["clipped"];
+    c.assign(m.size(), 0.0f);
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      if (!clipped[i][k]) continue;
+      if (m[k] > 0.0f) c[k] = 1.0f;
+      m[k] = 0.0f;
+    }
+    std::vector<std::uint8_t>().swap(clipped[i]);
     std::vector<std::uint16_t>().swap(raws[i]);  // this frame's mosaic is no longer needed
     return f;
   });

@@ -2,6 +2,7 @@
 // reproducibility per seed, and the bilinear demosaic on known patterns.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -322,4 +323,59 @@ TEST_CASE("fixed-pattern noise: same in every frame, PRNU rms as asked", "[senso
   CHECK(std::sqrt(dvar) == Approx(3).epsilon(0.08));
   s.dsnu_e = -1;
   CHECK_THROWS_WITH(validate(s), "dsnu_e must be >= 0");
+}
+
+TEST_CASE("clipped pixels: the demosaic's whole footprint of every raw value at the well or the ADC's top",
+          "[sensor]") {
+  // The clip level: 4 read-noise σ below the well in DN, or the ADC's top.
+  DofpSensor s = clean(32, 32);
+  s.full_well_e = 10500;
+  s.gain_dn_per_e = 0.39;
+  s.read_noise_e = 2.3;
+  s.adc_bits = 12;
+  CHECK(clip_level_dn(s) == std::floor(0.39 * (10500 - 4 * 2.3)));  // 4091, below 4095
+  s.gain_dn_per_e = 1;
+  CHECK(clip_level_dn(s) == 4095);
+  // Every pixel of a field far past the well is flagged whatever its read noise; at 90 % of the
+  // well (the brightest polarizer of a field at DoLP 0.5), none.
+  s.gain_dn_per_e = 0.39;
+  const Field bright = uniform(s, 1e3f, 0, 0);
+  for (auto v : clipped_pixels(s, simulate_raw(s, bright.s0, bright.s1, bright.s2, 0))) REQUIRE(v == 1);
+  const float s0 = static_cast<float>(0.9 * 10500 / 4e6 / 0.75);  // brightest polarizer: ½·S0·1.5
+  const Field below = uniform(s, s0, 0.5f * s0, 0);
+  for (auto v : clipped_pixels(s, simulate_raw(s, below.s0, below.s1, below.s2, 0))) REQUIRE(v == 0);
+
+  // The footprint, against the demosaic itself: one raw pixel at the clip level in a dim mosaic
+  // flags exactly the (2·reach + 1)² box around it, and every output pixel that the raw pixel
+  // changes lies in that box (reach 1 on the mono lattices of period 2, 3 on the colour ones of 4).
+  for (const bool colour : {false, true}) {
+    DofpSensor t = clean(24, 20);
+    t.adc_bits = 12;
+    if (colour) t.color_filter = ColorFilter::rggb_blocks;
+    const int reach = colour ? 3 : 1;
+    for (const auto& [r0, c0] : std::vector<std::pair<int, int>>{{9, 11}, {0, 0}, {19, 23}, {1, 22}}) {
+      INFO((colour ? "colour" : "mono") << " raw pixel (" << r0 << ", " << c0 << ")");
+      std::vector<std::uint16_t> raw(24 * 20, 100), hit = raw;
+      hit[static_cast<std::size_t>(r0 * 24 + c0)] = 4095;
+      const auto flagged = clipped_pixels(t, hit);
+      const auto stokes = [&](const std::vector<std::uint16_t>& m) {
+        return colour ? demosaic_color_bilinear(t, m) : std::array<StokesPlanes, 3>{demosaic_bilinear(t, m)};
+      };
+      const auto before = stokes(raw), after = stokes(hit);
+      int farthest = 0;  // the farthest output pixel the raw pixel changes (Chebyshev distance)
+      for (int r = 0; r < 20; ++r)
+        for (int c = 0; c < 24; ++c) {
+          const auto i = static_cast<std::size_t>(r * 24 + c);
+          const bool in_box = std::abs(r - r0) <= reach && std::abs(c - c0) <= reach;
+          REQUIRE(flagged[i] == (in_box ? 1 : 0));
+          for (std::size_t b = 0; b < (colour ? 3u : 1u); ++b) {
+            const bool changed = before[b].s0[i] != after[b].s0[i] || before[b].s1[i] != after[b].s1[i] ||
+                                 before[b].s2[i] != after[b].s2[i];
+            if (changed) REQUIRE(in_box);
+            if (changed) farthest = std::max({farthest, std::abs(r - r0), std::abs(c - c0)});
+          }
+        }
+      CHECK(farthest == reach);  // the box is no larger than the demosaic's reach
+    }
+  }
 }

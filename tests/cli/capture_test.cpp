@@ -74,7 +74,7 @@ void require_same_stokes(const std::string& rendered, const std::string& importe
     CHECK(b.frames[i].truth.time.unix_seconds == a.frames[i].truth.time.unix_seconds);
     // The capture's sun comes from its site and time, as the renderer's does.
     CHECK(b.frames[i].truth.sun.azimuth == Approx(a.frames[i].truth.sun.azimuth).margin(1e-12));
-    for (const char* c : {"mask", "S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y"}) {
+    for (const char* c : {"mask", "clipped", "S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y"}) {
       INFO("frame " << i << " channel " << c);
       const std::vector<float>& x = a.frames[i].channel(c);
       const std::vector<float>& y = b.frames[i].channel(c);
@@ -179,7 +179,7 @@ preset = "lucid_phx050s_qc"
   REQUIRE(b.bands == std::vector<std::string>{"R", "G", "B"});
   CHECK_FALSE(b.site_known);
   for (std::size_t i = 0; i < a.frames.size(); ++i) {
-    for (const char* c : {"S0.R", "S1.G", "S2.B", "DoLP.G", "AoLP.R", "R", "mask"}) {
+    for (const char* c : {"S0.R", "S1.G", "S2.B", "DoLP.G", "AoLP.R", "R", "mask", "clipped"}) {
       INFO(c);
       CHECK(a.frames[i].channel(c) == b.frames[i].channel(c));
     }

@@ -1,6 +1,6 @@
 // The sensor stage: a uniform polarized field through the DoFP sensor comes back with its DoLP
 // and AoLP (the AoLP's sign catches a mosaic or S2 sign error), noise is keyed by the frame index,
-// and masked pixels stay zero.
+// masked pixels stay zero, and pixels whose demosaic read a clipped raw value are masked.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -125,4 +125,36 @@ channels = ["DoLP"]
   const auto centre = static_cast<std::size_t>(f.height / 2 * f.width + f.width / 2);
   CHECK(dolp[centre] > 0.05f);  // the sky at the zenith is polarized
   }
+}
+
+TEST_CASE("pixels whose demosaic read a clipped raw value are masked, their S0 kept", "[sensor]") {
+  scene::SensorSpec s = sensor(32, 16);
+  s.dofp.shot_noise = false;
+  s.dofp.read_noise_e = 0;
+  // Columns 0–9 at S0 = 30 (75,000 e- behind every polarizer at DoLP 0: within the 1e5 e- well),
+  // columns 10–15 at DoLP 0.8 along 0° (the 0° polarizers, odd rows and columns of the
+  // {90, 45, 135, 0} mosaic, see 135,000 e-: clipped, the others not), the rest dim. Only the
+  // clipped columns 11, 13, 15 and the demosaic's reach of one pixel either side are masked.
+  stack::Frame f = uniform_frame(32, 16, 1.0f, 0.0f, 0.0f);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const auto i = static_cast<std::size_t>(y * 32 + x);
+      f.channel("S0.Y")[i] = 30.0f;
+      if (x >= 10) f.channel("S1.Y")[i] = 24.0f;
+    }
+  // Pixel (13, 8) sees no sky (an occluder): it and its eroded ring are masked, but not as clipped sky.
+  f.channel("mask")[static_cast<std::size_t>(8 * 32 + 13)] = 0.0f;
+  render::apply_sensor(s, {"Y"}, 0, f);
+  for (int y = 1; y < 15; ++y)
+    for (int x = 1; x < 31; ++x) {
+      INFO("pixel (" << x << ", " << y << ")");
+      const auto i = static_cast<std::size_t>(y * 32 + x);
+      const bool unseen = std::abs(x - 13) <= 1 && std::abs(y - 8) <= 1;
+      const bool clipped = x >= 10 && x <= 16 && !unseen;
+      CHECK(f.channel("mask")[i] == (clipped || unseen ? 0.0f : 1.0f));
+      CHECK(f.channel("clipped")[i] == (clipped ? 1.0f : 0.0f));  // the sky masked for clipping
+      if (!unseen) CHECK(f.channel("S0.Y")[i] > 0.5f);  // the glare stays in the picture
+    }
+  // Where clipped, the DoLP reads low (0.8 true): the Stokes vector the mask keeps out.
+  CHECK(f.channel("DoLP.Y")[static_cast<std::size_t>(4 * 32 + 13)] < 0.7f);
 }

@@ -77,6 +77,42 @@ TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, an
   CHECK(gated >= 3);  // great_circle, invariance, sun_vector, sun_vector_ephemeris answer it ungated
 }
 
+// A sensor masks the sky it clipped and marks it in channel "clipped" (render/sensor_stage.h). The
+// gate counts that sky as unpolarized: a cloud bright enough to clip is still a cloud. The same
+// pixels masked without the mark are sky the camera did not see, and count for nothing.
+TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, not the sky it never saw",
+          "[skypole][cloud]") {
+  testing::SyntheticSpec spec;
+  spec.times = testing::paper_times();
+  spec.size = 128;
+  spec.heading_deg = 30;
+  const stack::Stack clear = testing::make_stack(spec);
+  double covered = 0;
+  with_cloud(clear, covered);  // only for the share of the sky at camera x > 0
+  const skypole::SkyImages sky = skypole::prepare_sky_images(clear, {}, 1, "test");
+  stack::Stack clipped = clear, unseen = clear;
+  for (std::size_t k = 0; k < clear.frames.size(); ++k) {
+    std::vector<float>& cm = clipped.frames[k].channel("mask");
+    std::vector<float>& um = unseen.frames[k].channel("mask");
+    std::vector<float>& mark = clipped.frames[k].channels["clipped"];
+    mark.assign(sky.pixels(), 0.0f);
+    for (std::size_t i = 0; i < sky.pixels(); ++i)
+      if (sky.valid[i] && sky.ray_camera[i].x() > 0) {
+        cm[i] = um[i] = 0.0f;
+        mark[i] = 1.0f;
+      }
+  }
+  const skypole::SkyImages c = skypole::prepare_sky_images(clipped, {}, 1, "test");
+  const skypole::SkyImages u = skypole::prepare_sky_images(unseen, {}, 1, "test");
+  CHECK(c.valid_count == u.valid_count);  // no method reads the clipped sky
+  CHECK(c.valid_count < sky.valid_count * 6 / 10);
+  CHECK(u.clipped_rays.empty());
+  CHECK(c.clipped_rays.size() == static_cast<std::size_t>(sky.valid_count - c.valid_count));
+  INFO("covered " << covered);
+  CHECK(skypole::unpolarized_share(c) == Approx(covered).margin(0.1));
+  CHECK(skypole::unpolarized_share(u) < 0.02);
+}
+
 TEST_CASE("ring anisotropy: a Rayleigh sky is a function of the angle to the sun, Berry's neutral points are not",
           "[skypole][cloud][berry]") {
   testing::SyntheticSpec spec = testing::paper_day(128, 30);
