@@ -265,7 +265,7 @@ void study_calibration(const StudyOptions& o) {
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "aerosol", "tau_550", "ground_albedo", "cloud",
               "sensor", "exposure_us", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
-              "inside_cone", "lie", "residual_deg", "model_misfit", "sun_elevation_misfit_deg", "unpolarized_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
+              "inside_cone", "lie", "residual_deg", "model_misfit", "sun_elevation_misfit_deg", "unpolarized_share", "clipped_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
               "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
               "sectors_aa_deg2", "sectors_ab_deg2", "sectors_bb_deg2", "estimate_s"});
   // One record per (scene, method), summarised per method and per method and sky model.
@@ -297,12 +297,19 @@ void study_calibration(const StudyOptions& o) {
     if (!chosen(k)) continue;
     const stack::Stack stack = render_draw(d, binning, o.noise_draw);
     // The cloud gate's measure (skypole/cloud_share.h), written for every row so that its
-    // threshold can be read off this table.
-    const double unpolarized =
-        skypole::unpolarized_share(skypole::prepare_sky_images(stack, input, 1, "calibration"));
+    // threshold can be read off this table; undefined (empty) for a stack with no usable sky
+    // pixel (a sensor clipped everywhere), which every method then declines.
+    const auto sky_measure = [&](auto measure) {
+      try {
+        return measure(skypole::prepare_sky_images(stack, input, 1, "calibration"));
+      } catch (const std::invalid_argument&) {
+        return std::nan("");
+      }
+    };
+    const double unpolarized = sky_measure([](const auto& sky) { return skypole::unpolarized_share(sky); });
+    const double clipped = sky_measure([](const auto& sky) { return skypole::clipped_share(sky); });
     const double pixel_deg = skypole::pixel_angle_deg(*stack.camera);
-    const double anisotropy =
-        skypole::ring_anisotropy(skypole::prepare_sky_images(stack, input, 1, "calibration"));
+    const double anisotropy = sky_measure([](const auto& sky) { return skypole::ring_anisotropy(sky); });
     std::vector<skypole::PoleEstimate> done;
     for (std::size_t m = 0; m < methods.size(); ++m) {
       skypole::PoleEstimate e;
@@ -339,6 +346,7 @@ void study_calibration(const StudyOptions& o) {
           .set("gain_factor", d.gain_factor)
           .set("binning", binning)
           .set("unpolarized_share", unpolarized)
+          .set("clipped_share", clipped)
           .set("ring_anisotropy", anisotropy)
           .set("method", methods[m])
           .set("valid", e.valid)

@@ -7,7 +7,9 @@
 // fraction of its sky pixels that clip.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "camera/dofp_sensor.h"
 #include "studies/tradeoff_scoring.h"
@@ -23,21 +25,23 @@ struct FrameNoise {
 };
 
 // What the sensor did to one frame: its DoLP against the noise-free twin's, and its raw mosaic's
-// clipped pixels (at the ADC's top or the full well's, whichever is lower), over the sky pixels
-// the sensor keeps.
+// clipped pixels (camera::clip_level_dn), over the sky pixels a camera pipeline would read. Those
+// are the sensor's own mask (the clean one eroded by the pixel ring where the demosaic mixes in the
+// darkness beyond the image circle, render/sensor_stage.h) with the clipped pixels it also masks
+// put back: their DoLP error is what this study shows.
 FrameNoise frame_noise(const camera::DofpSensor& sensor, const stack::Frame& noisy, const stack::Frame& clean) {
-  const auto top = std::min((1 << sensor.adc_bits) - 1.0,
-                            std::floor(sensor.black_level_dn + sensor.full_well_e * sensor.gain_dn_per_e));
+  const double top = camera::clip_level_dn(sensor);
   const auto& raw = noisy.channel("raw");
+  const std::vector<std::uint16_t> readings(raw.begin(), raw.end());  // the channel holds them exactly
+  const std::vector<std::uint8_t> clipped_footprint = camera::clipped_pixels(sensor, readings);
   const auto& dolp = noisy.channel("DoLP.Y");
-  // The sensor's own mask: the clean one eroded by the pixel ring where the demosaic mixes in the
-  // darkness beyond the image circle (render/sensor_stage.h), which a camera pipeline drops too.
   const auto& mask = noisy.channel("mask");
+  const auto& clean_mask = clean.channel("mask");
   const auto& truth = clean.channel("DoLP.Y");
   double ss = 0;
   int n = 0, clipped = 0;
   for (std::size_t i = 0; i < mask.size(); ++i) {
-    if (mask[i] < 1) continue;
+    if (mask[i] < 1 && !(clipped_footprint[i] && clean_mask[i] >= 1)) continue;
     const double d = static_cast<double>(dolp[i]) - static_cast<double>(truth[i]);
     ss += d * d;
     clipped += static_cast<double>(raw[i]) >= top;
