@@ -3,6 +3,8 @@
 // pipeline: render::render_scene (camera rays once, sky per frame, EXR encode and write with the
 // scene defaults: float, zip, S0 S1 S2 DoLP AoLP mask), stack::read_stack, then every estimator
 // on the stack read back. MB are uncompressed pixel data (what the renderer hands the writer).
+// The Rayleigh-law misfit (skypole/sun_vector.h) has a row of its own: four methods' answers
+// include it (their model gates, skypole/evaluate.cpp), so their times hold it too.
 // Mrays/s with occluders is a placeholder row: `skypol bench-occluders` measures Embree on the
 // urban canyon, and scripts/benchmarks fills the row from it.
 #include <cstdio>
@@ -16,6 +18,7 @@
 #include "scene/scene.h"
 #include "stack/stack_io.h"
 #include "skypole/evaluate.h"
+#include "skypole/sun_vector.h"
 
 namespace skypol::studies::tradeoff {
 namespace {
@@ -84,6 +87,9 @@ void study_throughput(const StudyOptions& o) {
         row("estimate", c, w, h).set("method", m).set("unit", "Mpix/s").set("note", e.what());
       }
     }
+    const double misfit_s = best_seconds(1, [&] { (void)skypole::rayleigh_law_misfit(stack, {}); });
+    row("law_misfit", c, w, h).set("seconds", misfit_s).set("rate", px / misfit_s / 1e6).set("unit", "Mpix/s")
+        .set("note", "inside classic, great_circle, sun_vector and invariance's estimate times");
     fs::remove(path);
   }
   // Rays against Embree occluders: measured by `skypol bench-occluders` (studies/occluders_bench.h).

@@ -294,7 +294,7 @@ TEST_CASE("skypol tradeoff all --small writes every table with its columns and s
     CHECK(t.columns == std::vector<std::string>{"quantity", "method", "binning", "width", "height", "frames",
                                                 "seconds", "rate", "unit", "mb", "file_mb", "note"});
     all_finite(t, {"binning", "width", "height", "frames", "seconds", "rate", "mb", "file_mb"});
-    for (const char* q : {"ray_setup", "sky_render", "exr_write", "stack_read"}) {
+    for (const char* q : {"ray_setup", "sky_render", "exr_write", "stack_read", "law_misfit"}) {
       const auto rows = t.where("quantity", q);
       CHECK(rows.size() == 3);
       for (const auto& r : rows) CHECK(num(r, "seconds") > 0);
