@@ -392,21 +392,24 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
     unpolarized = unpolarized_share(sky_images());
     const double share = *unpolarized;
     if (share > c.max_unpolarized_share) {
+      // Where the sensor clipped part of that sky, the reason says how much, and the cure.
       const double clipped = clipped_share(sky_images());
-      if (clipped > 0.005)  // the sensor's clipping is part of the reason: say how much, and the cure
-        std::snprintf(buf, sizeof buf,
-                      "cloud, neutral points or clipping: %.0f %% of the sky away from the sun and antisun is "
+      const bool clipping = clipped > 0.005;
+      char reading[256];
+      if (clipping)
+        std::snprintf(reading, sizeof reading,
                       "unpolarized or clipped (clipped by the sensor in some frame, which no method reads: %.0f %%; "
-                      "a shorter exposure or a lower gain reads it), above the %.0f %% beyond which this method's "
-                      "error was not predictable in the calibration study",
-                      100.0 * share, 100.0 * clipped, 100.0 * c.max_unpolarized_share);
+                      "a shorter exposure or a lower gain reads it)",
+                      100.0 * clipped);
       else
-        std::snprintf(buf, sizeof buf,
-                      "cloud or neutral points: %.0f %% of the sky away from the sun and antisun is unpolarized "
-                      "(DoLP below 20 %% of its 99th percentile; cloud, or the neutral points of a multiply "
-                      "scattering sky reaching beyond 40° of the sun and antisun), above the %.0f %% beyond which "
-                      "this method's error was not predictable in the calibration study",
-                      100.0 * share, 100.0 * c.max_unpolarized_share);
+        std::snprintf(reading, sizeof reading, "%s",
+                      "unpolarized (DoLP below 20 % of its 99th percentile; cloud, or the neutral points of a "
+                      "multiply scattering sky reaching beyond 40° of the sun and antisun)");
+      std::snprintf(buf, sizeof buf,
+                    "%s: %.0f %% of the sky away from the sun and antisun is %s, above the %.0f %% beyond which this "
+                    "method's error was not predictable in the calibration study",
+                    clipping ? "cloud, neutral points or clipping" : "cloud or neutral points", 100.0 * share, reading,
+                    100.0 * c.max_unpolarized_share);
       e.valid = false;
       e.why_invalid = buf;
       return;

@@ -30,15 +30,20 @@ stack::Stack with_cloud(stack::Stack stack, double& covered_share) {
   return stack;
 }
 
-}  // namespace
-
-TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, and the gate declines it",
-          "[skypole][cloud]") {
+// The paper's clear day, 128 px.
+stack::Stack clear_day() {
   testing::SyntheticSpec spec;
   spec.times = testing::paper_times();
   spec.size = 128;
   spec.heading_deg = 30;
-  const stack::Stack clear = testing::make_stack(spec);
+  return testing::make_stack(spec);
+}
+
+}  // namespace
+
+TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, and the gate declines it",
+          "[skypole][cloud]") {
+  const stack::Stack clear = clear_day();
   const double clear_share = skypole::unpolarized_share(skypole::prepare_sky_images(clear, {}, 1, "test"));
   INFO("clear " << clear_share);
   CHECK(clear_share < 0.02);
@@ -82,11 +87,7 @@ TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, an
 // pixels masked without the mark are sky the camera did not see, and count for nothing.
 TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, not the sky it never saw",
           "[skypole][cloud]") {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.size = 128;
-  spec.heading_deg = 30;
-  const stack::Stack clear = testing::make_stack(spec);
+  const stack::Stack clear = clear_day();
   double covered = 0;
   with_cloud(clear, covered);  // only for the share of the sky at camera x > 0
   const skypole::SkyImages sky = skypole::prepare_sky_images(clear, {}, 1, "test");
@@ -111,6 +112,19 @@ TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, no
   INFO("covered " << covered);
   CHECK(skypole::unpolarized_share(c) == Approx(covered).margin(0.1));
   CHECK(skypole::unpolarized_share(u) < 0.02);
+  CHECK(skypole::clipped_share(c) == Approx(skypole::unpolarized_share(c)).margin(0.02));  // the clear half reads polarized
+  CHECK(skypole::clipped_share(u) == 0);
+  // The gate names the clipping, how much of the sky it took, and the cure.
+  skypole::InputOptions ungated;
+  ungated.calibrated = false;
+  ungated.max_uncertainty_deg = std::numeric_limits<double>::infinity();
+  skypole::PoleEstimate e = skypole::run_method(clipped, "sun_vector", ungated);
+  REQUIRE(e.valid);
+  skypole::apply_calibration_gates(e, {.method = "sun_vector", .max_unpolarized_share = 0.25}, clipped, {});
+  CHECK_FALSE(e.valid);
+  CHECK_THAT(e.why_invalid, Catch::StartsWith("cloud, neutral points or clipping: ") &&
+                                Catch::Contains("clipped by the sensor in some frame, which no method reads") &&
+                                Catch::Contains("a shorter exposure"));
 }
 
 TEST_CASE("ring anisotropy: a Rayleigh sky is a function of the angle to the sun, Berry's neutral points are not",
