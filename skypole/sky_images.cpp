@@ -142,11 +142,15 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
     const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
     if (r && (sky.level_from_camera * *r).z() >= min_z) sky.clipped_rays.push_back(r->normalized().cast<float>());
   }
+  if (sky.valid_count == 0 && !sky.clipped_rays.empty())
+    throw std::invalid_argument(m + ": the sensor clipped the sky: no sky pixel above " +
+                                std::to_string(options.min_elevation_deg) +
+                                "° elevation escapes clipping in every frame (channel \"clipped\"); a shorter "
+                                "exposure or a lower gain reads it");
   if (sky.valid_count == 0)
     throw std::invalid_argument(m + ": no pixel sees sky above " +
                                 std::to_string(options.min_elevation_deg) +
-                                "° elevation (check the mask channel, which a sensor also clears where it clipped, the lens "
-                                "and the tilt)");
+                                "° elevation (check the mask channel, the lens and the tilt)");
   return sky;
 }
 

@@ -114,6 +114,16 @@ TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, no
   CHECK(skypole::unpolarized_share(u) < 0.02);
   CHECK(skypole::clipped_share(c) == Approx(skypole::unpolarized_share(c)).margin(0.02));  // the clear half reads polarized
   CHECK(skypole::clipped_share(u) == 0);
+  // A sky clipped all over is declined for that, not for want of sky.
+  stack::Stack all_clipped = clipped;
+  for (stack::Frame& f : all_clipped.frames)
+    for (std::size_t i = 0; i < sky.pixels(); ++i)
+      if (sky.valid[i]) {
+        f.channel("mask")[i] = 0.0f;
+        f.channel("clipped")[i] = 1.0f;
+      }
+  CHECK_THROWS_WITH(skypole::prepare_sky_images(all_clipped, {}, 1, "test"),
+                    Catch::StartsWith("test: the sensor clipped the sky") && Catch::Contains("a shorter exposure"));
   // The gate names the clipping, how much of the sky it took, and the cure.
   skypole::InputOptions ungated;
   ungated.calibrated = false;
