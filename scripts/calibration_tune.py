@@ -26,7 +26,7 @@ err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] (and, with
 figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
 calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, elev, misfit_deg, sector_unpol, dof, max_residual, min_window, max_unpolarized, max_anisotropy, max_misfit}}; missing keys are 0, no
+pixels, elev, misfit_deg, sector_unpol, dof, max_residual, min_window, max_unpolarized, max_clipped (not searched), max_anisotropy, max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
 --auto ranked|sharpest|ephemeris|ephemeris_mean|mean|mean_raw: auto returns the agreeing answer of
@@ -95,7 +95,7 @@ def load(paths, replace=()):
         if m == "auto":
             continue
         d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "cf", "cs", "res", "window", "unpol",
-                                               "aniso", "misfit", "elev", "pixel", "off", "frames", "sensor", "seed")})
+                                               "clip", "aniso", "misfit", "elev", "pixel", "off", "frames", "sensor", "seed")})
         d["stack"].append(int(r["stack"]))
         d["sky"].append(r["sky"])
         v = r["valid"] == "1"
@@ -118,6 +118,7 @@ def load(paths, replace=()):
         d["res"].append(fnum(r["residual_deg"]) if v else math.nan)
         d["window"].append(fnum(r["window_min"]))
         d["unpol"].append(fnum(r["unpolarized_share"]))
+        d["clip"].append(fnum(r.get("clipped_share", "0") or "0"))  # a run before the clipped mask: 0
         d["aniso"].append(fnum(r.get("ring_anisotropy", "0") or "0"))
         d["misfit"].append(fnum(r.get("model_misfit", "0") or "0") if v else 0.0)  # a run before it: 0
         d["elev"].append(fnum(r.get("sun_elevation_misfit_deg", "0") or "0") if v else 0.0)
@@ -194,6 +195,7 @@ def apply(d, c, bound):
     ok &= ~(np.nan_to_num(d["res"], nan=1e9) > c.get("max_residual", math.inf))
     ok &= ~(d["window"] < c.get("min_window", 0.0))
     ok &= ~(d["unpol"] > c.get("max_unpolarized", math.inf))
+    ok &= ~(d["clip"] > c.get("max_clipped", math.inf))
     ok &= ~(d["aniso"] > c.get("max_anisotropy", math.inf))
     ok &= ~(d["misfit"] > c.get("max_misfit", math.inf))
     ok &= K95 * sigma <= bound

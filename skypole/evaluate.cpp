@@ -331,7 +331,7 @@ const std::vector<MethodCalibration>& method_calibrations() {
       {.method = "great_circle", .inflation = 0.5, .floor_deg = 0.025, .max_residual_deg = 5.0, .min_window_min = 60.0,
        .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 0.5, .sector_unpolarized = 0.5},
       {.method = "invariance", .inflation = 0.5, .floor_deg = 0.0001, .max_residual_deg = 0.5,
-       .sector_inflation = 0.5, .misfit_deg = 80.0},
+       .max_clipped_share = 0.3, .sector_inflation = 0.5, .misfit_deg = 80.0},
       {.method = "sun_vector", .inflation = 0.5, .floor_deg = 0.03, .max_residual_deg = 5.0, .min_window_min = 60.0,
        .max_unpolarized_share = 0.5, .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 1.0},
       {.method = "sun_vector_ephemeris", .inflation = 0.5, .floor_deg = 0.0003, .max_residual_deg = 5.0,
@@ -410,6 +410,19 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
                     "method's error was not predictable in the calibration study",
                     clipping ? "cloud, neutral points or clipping" : "cloud or neutral points", 100.0 * share, reading,
                     100.0 * c.max_unpolarized_share);
+      e.valid = false;
+      e.why_invalid = buf;
+      return;
+    }
+  }
+  if (std::isfinite(c.max_clipped_share)) {
+    const double clipped = clipped_share(sky_images());
+    if (clipped > c.max_clipped_share) {
+      std::snprintf(buf, sizeof buf,
+                    "the sensor clipped the sky: %.0f %% of the sky away from the sun and antisun clipped in some "
+                    "frame, which no method reads, above the %.0f %% beyond which this method's calibration holds "
+                    "no answer; a shorter exposure or a lower gain reads it",
+                    100.0 * clipped, 100.0 * c.max_clipped_share);
       e.valid = false;
       e.why_invalid = buf;
       return;

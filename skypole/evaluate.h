@@ -78,6 +78,10 @@ struct MethodCalibration {
   double max_ring_anisotropy = std::numeric_limits<double>::infinity();
   // Decline a sky that departs from the method's own model beyond this (PoleEstimate::model_misfit).
   double max_model_misfit = std::numeric_limits<double>::infinity();
+  // Decline a sky more than this share clipped by the sensor in some frame (clipped_share,
+  // cloud_share.h), beyond which the method's calibration holds no answer: invariance, whose σ has
+  // no term for the sky it lost, was 0.065° off at 6.8σ on a clear sky 78 % clipped (section 7k).
+  double max_clipped_share = std::numeric_limits<double>::infinity();
   // The factor on the sector jackknife's covariance (uncertainty.h; 0: not counted), and a σ term
   // unpolarized_deg·unpolarized_share (cloud_share.h: cloud, neutral points, saturation — errors
   // every frame shares, which neither jackknife sees in full).
