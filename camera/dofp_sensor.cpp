@@ -382,4 +382,14 @@ std::vector<std::uint8_t> clipped_pixels(const DofpSensor& s, std::span<const st
   return out;
 }
 
+void mask_clipped(std::span<const std::uint8_t> clipped, std::vector<float>& mask, std::vector<float>& clipped_sky) {
+  if (clipped.size() != mask.size()) throw std::invalid_argument("clipped pixels and mask differ in size");
+  clipped_sky.assign(mask.size(), 0.0f);
+  for (std::size_t i = 0; i < mask.size(); ++i) {
+    if (!clipped[i]) continue;
+    if (mask[i] > 0.0f) clipped_sky[i] = 1.0f;
+    mask[i] = 0.0f;
+  }
+}
+
 }  // namespace skypol::camera

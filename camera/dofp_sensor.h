@@ -122,5 +122,9 @@ double clip_level_dn(const DofpSensor& sensor);
 // every frame (a mono sensor 80 % past full well at the brightest sky moved sun_vector_ephemeris'
 // heading by 0.28°, 6σ, in every one of 40 noise draws: docs/benchmarks-calibration.md, 7k).
 std::vector<std::uint8_t> clipped_pixels(const DofpSensor& sensor, std::span<const std::uint16_t> raw);
+// Masks the pixels `clipped` marks (mask = 0) and writes `clipped_sky`: 1 where such a pixel was sky
+// (mask > 0 before), else 0 — the stack's "clipped" channel (docs/exr-format.md). Renders and
+// imported captures alike.
+void mask_clipped(std::span<const std::uint8_t> clipped, std::vector<float>& mask, std::vector<float>& clipped_sky);
 
 }  // namespace skypol::camera

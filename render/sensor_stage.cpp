@@ -55,21 +55,6 @@ void erode_mask(std::vector<float>& mask, int w, int h) {
   }
 }
 
-// A pixel whose demosaic read a clipped raw value is masked (camera::clipped_pixels): it sees sky,
-// but not a Stokes vector anyone should fit. Its S0 stays, so that the picture shows the glare,
-// and the "clipped" channel says which sky pixels were masked so: sky the camera saw but could not
-// read, which the cloud gate counts as it counts unpolarized sky (skypole/cloud_share.h).
-void mask_clipped(const camera::DofpSensor& d, const std::vector<std::uint16_t>& raw, std::vector<float>& mask,
-                  std::vector<float>& clipped_sky) {
-  const std::vector<std::uint8_t> clipped = camera::clipped_pixels(d, raw);
-  clipped_sky.assign(mask.size(), 0.0f);
-  for (std::size_t i = 0; i < mask.size(); ++i) {
-    if (!clipped[i]) continue;
-    if (mask[i] > 0.0f) clipped_sky[i] = 1.0f;
-    mask[i] = 0.0f;
-  }
-}
-
 }  // namespace
 
 std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
@@ -109,7 +94,10 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
     camera::StokesPlanes planes = take_planes(b, frame);  // the raw frame no longer needs them
     camera::demosaic_bilinear_into(d, raw, sensor.demosaic, planes);
     finish_band(b, mask, std::move(planes), frame);
-    if (mask) mask_clipped(d, raw, *mask, frame.channels["clipped"]);
+    // A pixel whose demosaic read a clipped raw value sees sky, but not a Stokes vector anyone
+    // should fit: masked, its S0 kept (the picture shows the glare), and marked in "clipped", sky
+    // the camera saw but could not read, which the cloud gate counts (skypole/cloud_share.h).
+    if (mask) camera::mask_clipped(camera::clipped_pixels(d, raw), *mask, frame.channels["clipped"]);
     if (keep_raw) frame.channels["raw"].assign(raw.begin(), raw.end());
     return;
   }
@@ -125,7 +113,7 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
   for (std::size_t i = 0; i < 3; ++i) measured[i] = take_planes(bands[i], frame);
   camera::demosaic_color_bilinear_into(d, raw, sensor.demosaic, measured);
   for (std::size_t i = 0; i < 3; ++i) finish_band(bands[i], mask, std::move(measured[i]), frame);
-  if (mask) mask_clipped(d, raw, *mask, frame.channels["clipped"]);
+  if (mask) camera::mask_clipped(camera::clipped_pixels(d, raw), *mask, frame.channels["clipped"]);
   if (keep_raw) frame.channels["raw"].assign(raw.begin(), raw.end());
 }
 

@@ -9,18 +9,11 @@
 
 namespace skypol::skypole {
 
-namespace {
-
-struct Shares {
-  double unpolarized = 0;  // low DoLP or clipped
-  double clipped = 0;      // clipped alone
-};
-
-Shares away_from_sun_shares(const SkyImages& sky) {
+UnreadableSky unreadable_sky(const SkyImages& sky) {
   if (sky.frames() == 0 || sky.valid_count == 0) return {};
   const auto suns = find_suns(sky, sky.dolp);
   const double cos40 = std::cos(40.0 * std::numbers::pi / 180.0);
-  Shares total;
+  UnreadableSky total;
   for (std::size_t f = 0; f < sky.frames(); ++f) {
     const std::vector<float>& img = sky.dolp[f];
     const float cut = 0.2f * valid_quantile(img, sky, 0.99);
@@ -46,11 +39,9 @@ Shares away_from_sun_shares(const SkyImages& sky) {
   return {total.unpolarized / frames, total.clipped / frames};
 }
 
-}  // namespace
+double unpolarized_share(const SkyImages& sky) { return unreadable_sky(sky).unpolarized; }
 
-double unpolarized_share(const SkyImages& sky) { return away_from_sun_shares(sky).unpolarized; }
-
-double clipped_share(const SkyImages& sky) { return away_from_sun_shares(sky).clipped; }
+double clipped_share(const SkyImages& sky) { return unreadable_sky(sky).clipped; }
 
 double ring_anisotropy(const SkyImages& sky) {
   if (sky.frames() == 0 || sky.valid_count == 0) return 0.0;

@@ -20,6 +20,12 @@ namespace skypol::skypole {
 double unpolarized_share(const SkyImages& sky);
 // The part of unpolarized_share that is clipped sky (0 without a sensor's "clipped" channel).
 double clipped_share(const SkyImages& sky);
+// Both at once, from one pass (one find_suns): for a caller that reads both.
+struct UnreadableSky {
+  double unpolarized = 0;  // unpolarized_share: low DoLP or clipped
+  double clipped = 0;      // clipped_share: clipped alone
+};
+UnreadableSky unreadable_sky(const SkyImages& sky);
 
 // How far the sky's DoLP is from a function of the angle to the sun (Rayleigh's and every
 // single-scattering sky's shape): per frame, around the lowest DoLP above the horizon (find_suns:

@@ -382,18 +382,24 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
     e.why_invalid = buf;
     return;
   }
-  // The sky images both sky-shape gates read, prepared once and only if a gate needs them.
+  // The sky images the sky-shape gates read, and the shares of it that no method reads, each
+  // measured once and only if a gate needs it.
   std::optional<SkyImages> images;
   const auto sky_images = [&]() -> const SkyImages& {
     if (!images) images = prepare_sky_images(stack, input, 1, e.method);
     return *images;
   };
+  std::optional<UnreadableSky> unread;
+  const auto unreadable = [&]() -> const UnreadableSky& {
+    if (!unread) unread = unreadable_sky(sky_images());
+    return *unread;
+  };
   if (input.cloud_gate && std::isfinite(c.max_unpolarized_share)) {
-    unpolarized = unpolarized_share(sky_images());
+    unpolarized = unreadable().unpolarized;
     const double share = *unpolarized;
     if (share > c.max_unpolarized_share) {
       // Where the sensor clipped part of that sky, the reason says how much, and the cure.
-      const double clipped = clipped_share(sky_images());
+      const double clipped = unreadable().clipped;
       const bool clipping = clipped > 0.005;
       char reading[256];
       if (clipping)
@@ -416,7 +422,7 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
     }
   }
   if (std::isfinite(c.max_clipped_share)) {
-    const double clipped = clipped_share(sky_images());
+    const double clipped = unreadable().clipped;
     if (clipped > c.max_clipped_share) {
       std::snprintf(buf, sizeof buf,
                     "the sensor clipped the sky: %.0f %% of the sky away from the sun and antisun clipped in some "

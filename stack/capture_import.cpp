@@ -287,14 +287,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
     }
     // As a render's sensor stage: a pixel whose demosaic read a clipped raw value is masked
     // (camera::clipped_pixels), its S0 kept, and channel "clipped" marks the sky masked so.
-    std::vector<float>& m = f.channels["mask"] = mask;
-    std::vector<float>& c = f.channels["clipped"];
-    c.assign(m.size(), 0.0f);
-    for (std::size_t k = 0; k < m.size(); ++k) {
-      if (!clipped[i][k]) continue;
-      if (m[k] > 0.0f) c[k] = 1.0f;
-      m[k] = 0.0f;
-    }
+    camera::mask_clipped(clipped[i], f.channels["mask"] = mask, f.channels["clipped"]);
     std::vector<std::uint8_t>().swap(clipped[i]);
     std::vector<std::uint16_t>().swap(raws[i]);  // this frame's mosaic is no longer needed
     return f;

@@ -299,17 +299,17 @@ void study_calibration(const StudyOptions& o) {
     // The cloud gate's measure (skypole/cloud_share.h), written for every row so that its
     // threshold can be read off this table; undefined (empty) for a stack with no usable sky
     // pixel (a sensor clipped everywhere), which every method then declines.
-    const auto sky_measure = [&](auto measure) {
-      try {
-        return measure(skypole::prepare_sky_images(stack, input, 1, "calibration"));
-      } catch (const std::invalid_argument&) {
-        return std::nan("");
-      }
-    };
-    const double unpolarized = sky_measure([](const auto& sky) { return skypole::unpolarized_share(sky); });
-    const double clipped = sky_measure([](const auto& sky) { return skypole::clipped_share(sky); });
+    double unpolarized = std::nan(""), clipped = std::nan(""), anisotropy = std::nan("");
+    try {
+      const skypole::SkyImages sky = skypole::prepare_sky_images(stack, input, 1, "calibration");
+      const skypole::UnreadableSky unread = skypole::unreadable_sky(sky);
+      unpolarized = unread.unpolarized;
+      clipped = unread.clipped;
+      anisotropy = skypole::ring_anisotropy(sky);
+    } catch (const std::invalid_argument&) {
+      // no usable sky pixel: the measures stay undefined
+    }
     const double pixel_deg = skypole::pixel_angle_deg(*stack.camera);
-    const double anisotropy = sky_measure([](const auto& sky) { return skypole::ring_anisotropy(sky); });
     std::vector<skypole::PoleEstimate> done;
     for (std::size_t m = 0; m < methods.size(); ++m) {
       skypole::PoleEstimate e;
