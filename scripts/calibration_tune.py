@@ -15,18 +15,20 @@ anything again:
     sigma^2 = lmax(w^2 (a^2 C_frames + b^2 C_sectors)) + floor^2
               + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2
               + (e*sun_elevation_misfit_deg)^2 + (m*model_misfit)^2,
-    b = sector + sector_unpol*unpolarized_share,
+    b = sector + sector_unpol*unpolarized_share + sector_clip*clipped_share,
 w^2 the widening for the jackknives' few groups (uncertainty.h, few_groups_widening2: the F(2, nu)
 95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of min(frames, 6) - 1 and
 5), declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
 Several runs (seeds) are pooled. Per method it prints the calibration with zero lies (counted at
 err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] (and, with
---min-sky-coverage C, at least C for every sky model with 10 answers or more) that keeps the most answers
-(within 5 %: the fewest gates, then the fewest sigma terms, then coverage nearest 95 %), its
+--min-sky-coverage C, at least C for every sky model with 10 answers or more, and with --sky-wilson
+no sky model with fewer whose coverage's 95 % Wilson interval tops out below C) that keeps the most
+answers (within 5 %: the fewest gates, then the fewest sigma terms, then coverage nearest 95 %), its
 figures per sky model and per seed, and what auto (evaluate.cpp, combine_estimates) makes of the
 calibrated answers. The C++ gives the same answers and sigmas (docs/benchmarks.md, section 7).
 --apply FILE: evaluate the calibrations in FILE (JSON: {method: {factor, sector, floor, unpol, share,
-pixels, elev, misfit_deg, sector_unpol, dof, max_residual, min_window, max_unpolarized, max_clipped (not searched), max_anisotropy, max_misfit}}; missing keys are 0, no
+pixels, elev, misfit_deg, sector_unpol, sector_clip, dof, clip_apart, max_residual, min_window, max_unpolarized, max_clipped, max_anisotropy,
+max_misfit}}; missing keys are 0, no
 gate, or no widening (dof: false, the calibrations before it)) instead of searching, e.g. on a
 held-out seed's uncalibrated run.
 --auto ranked|sharpest|ephemeris|ephemeris_mean|mean|mean_raw: auto returns the agreeing answer of
@@ -42,8 +44,8 @@ site (no sun_vector_ephemeris: an imported capture without [site]).
 seeds and counts hold replace the runs' (a method changed after the run).
 --only METHOD ...: search or apply these methods only.
 --grid NAME=V,V,...: search only these values of one grid (NAME: factors, sectors, floors, unpols,
-shares, pixels, elevs, misfit_degs, sector_unpols, or a gate's: res_c, win_c, unpol_c, aniso_c, misfit_c; inf for
-no gate), to make a search with many dimensions affordable.
+shares, pixels, elevs, misfit_degs, sector_unpols, or a gate's: res_c, win_c, unpol_c, aniso_c, misfit_c, clip_c;
+inf for no gate; clip_c is searched only when given), to make a search with many dimensions affordable.
 --plot FILE.png: the reliability diagram (stated 95 % cone against error; share inside per bin).
 A run made before the sector jackknife (no frames_aa_deg2 column) is read with C_frames isotropic
 from its sigma and C_sectors = 0.
@@ -69,6 +71,9 @@ MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leave
 MIN_SKY_COVERAGE = 0.0
 GRID = {}  # --grid: a search grid's values, replacing the default's
 SKY_MIN_ANSWERS = 10
+# --sky-wilson: a sky model with fewer answers fails the rule too when the top of its coverage's 95 %
+# Wilson interval is below MIN_SKY_COVERAGE (section 7l: 1 of 5 Berry answers inside, top 0.62).
+SKY_WILSON = False
 # auto before section 7e (evaluate.cpp's auto_rank()): the agreeing answer of the first method in
 # this order, the methods by the median error of their calibrated answers on seed 1.
 RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
@@ -172,18 +177,30 @@ def jackknife_factor2(d, A, B, b):
     return f95_ratio(nu)
 
 
+def unpolarized_of(d, c):
+    """The unpolarized share the calibration's gate and terms read: the unreadable sky (low DoLP or
+    clipped, as evaluate.cpp reads it), or with clip_apart the low-DoLP sky alone, the clipped sky
+    being masked and left to its own gate (max_clipped) and term (sector_clip). Section 7l searched
+    clip_apart and no method's pick took it, so the C++ has no such reading: a calibration with
+    clip_apart true cannot be committed as it is (tests/cli/calibration_script_check.py)."""
+    u = np.nan_to_num(d["unpol"])
+    return np.maximum(u - np.nan_to_num(d["clip"]), 0.0) if c.get("clip_apart", False) else u
+
+
 def sigma_of(d, c):
     # The sector factor, per answer: grown by sector_unpol per unit of unpolarized share
     # (MethodCalibration::sector_unpolarized: under cloud the sector jackknife measures a bias).
     a = c.get("factor", 1.0)
-    b = c.get("sector", 0.0) + c.get("sector_unpol", 0.0) * np.nan_to_num(d["unpol"])
+    unpol = unpolarized_of(d, c)
+    b = (c.get("sector", 0.0) + c.get("sector_unpol", 0.0) * unpol
+         + c.get("sector_clip", 0.0) * np.nan_to_num(d["clip"]))
     C = a * a * d["cf"] + (b * b)[:, None] * d["cs"]
     if c.get("dof", False):
         A = a * a * np.maximum(lmax(*d["cf"].T), 0.0)
         B = b * b * np.maximum(lmax(*d["cs"].T), 0.0)
         C = C * jackknife_factor2(d, A, B, b)[:, None]
     excess = np.maximum(0.0, np.nan_to_num(d["res"]) - c.get("pixels", 0.0) * d["pixel"])
-    iso = (c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * d["unpol"]) ** 2
+    iso = (c.get("floor", 0.0) ** 2 + (c.get("share", 0.0) * excess) ** 2 + (c.get("unpol", 0.0) * unpol) ** 2
            + (c.get("elev", 0.0) * d["elev"]) ** 2 + (c.get("misfit_deg", 0.0) * d["misfit"]) ** 2)
     return np.sqrt(np.maximum(lmax(C[:, 0], C[:, 1], C[:, 2]), 0.0) + iso)
 
@@ -194,7 +211,7 @@ def apply(d, c, bound):
     ok = d["valid"].copy()
     ok &= ~(np.nan_to_num(d["res"], nan=1e9) > c.get("max_residual", math.inf))
     ok &= ~(d["window"] < c.get("min_window", 0.0))
-    ok &= ~(d["unpol"] > c.get("max_unpolarized", math.inf))
+    ok &= ~(unpolarized_of(d, c) > c.get("max_unpolarized", math.inf))
     ok &= ~(d["clip"] > c.get("max_clipped", math.inf))
     ok &= ~(d["aniso"] > c.get("max_anisotropy", math.inf))
     ok &= ~(d["misfit"] > c.get("max_misfit", math.inf))
@@ -216,6 +233,16 @@ def stats(d, ok, sigma, sel=None):
             "max": float(err.max()) if v else math.nan}
 
 
+def wilson_upper95(hits, n):
+    """The top of wilson95's interval, elementwise over arrays of hits and n > 0."""
+    n = np.maximum(np.asarray(n, dtype=np.float64), 1.0)
+    z2n = 1.959963984540054 ** 2 / n
+    p = np.asarray(hits, dtype=np.float64) / n
+    centre = (p + 0.5 * z2n) / (1 + z2n)
+    half = np.sqrt(z2n) / (1 + z2n) * np.sqrt(p * (1 - p) + 0.25 * z2n)
+    return np.minimum(1.0, centre + half)
+
+
 def wilson95(hits, n):
     """The 95 % Wilson score interval of a share of hits in n (studies/tradeoff_calibration.cpp,
     wilson_interval95): what a coverage read off few answers can say."""
@@ -226,6 +253,62 @@ def wilson95(hits, n):
     centre = (p + 0.5 * z2n) / (1 + z2n)
     half = math.sqrt(z2n) / (1 + z2n) * math.sqrt(p * (1 - p) + 0.25 * z2n)
     return (round(max(0.0, centre - half), 3), round(min(1.0, centre + half), 3))
+
+
+def search_with(d, bound, clip_apart, combos, res, err, res_c, win_c, unpol_c, aniso_c, misfit_c, clip_c):
+    """The calibrations of search() that meet its rules, for one reading of the unpolarized share
+    (clip_apart: without the clipped sky; unpolarized_of)."""
+    unpol = unpolarized_of(d, {"clip_apart": clip_apart})
+    gates, masks = [], []
+    for mr, mw, mu, ma, mm, mc in itertools.product(res_c, win_c, unpol_c, aniso_c, misfit_c, clip_c):
+        gates.append({"max_residual": mr, "min_window": mw, "max_unpolarized": mu, "max_anisotropy": ma,
+                      "max_misfit": mm, "max_clipped": mc})
+        masks.append(d["valid"] & ~(res > mr) & ~(d["window"] < mw) & ~(unpol > mu) & ~(d["aniso"] > ma)
+                     & ~(d["misfit"] > mm) & ~(d["clip"] > mc))
+    G = np.array(masks, dtype=np.float64)  # gates x rows
+    ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"], g["max_misfit"],
+                                       g["max_clipped"]) if math.isfinite(x)) + (g["min_window"] > 0) for g in gates])
+    found = []
+    chunk = 512
+    for start in range(0, len(combos), chunk):
+        part = combos[start:start + chunk]
+        cone_ok, lie_v, inside_v = [], [], []
+        for f, b, fl, u, sh, px, el, mt, su, sc in part:
+            sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px,
+                                 "elev": el, "misfit_deg": mt, "sector_unpol": su, "sector_clip": sc, "dof": True,
+                                 "clip_apart": clip_apart})
+            ok = K95 * sigma <= bound
+            cone_ok.append(ok)
+            lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
+            inside_v.append(ok & (err <= K95 * sigma))
+        V = G @ np.array(cone_ok, dtype=np.float64).T  # gates x combos
+        L = G @ np.array(lie_v, dtype=np.float64).T
+        I = G @ np.array(inside_v, dtype=np.float64).T
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cov = np.where(V > 0, I / np.maximum(V, 1), np.nan)
+        good = (V > 0) & (L == 0) & (cov >= 0.90) & (cov <= MAX_COVERAGE)
+        if MIN_SKY_COVERAGE > 0 and good.any():
+            gi, ji = np.nonzero(good)
+            cone_a, inside_a = np.array(cone_ok, dtype=bool), np.array(inside_v, dtype=bool)
+            for sky in set(d["sky"]):
+                at = d["sky"] == sky
+                for lo in range(0, len(gi), 4096):  # the passing pairs only, in blocks
+                    g_, j_ = gi[lo:lo + 4096], ji[lo:lo + 4096]
+                    rows_ok = G[g_].astype(bool) & at
+                    vs = np.sum(rows_ok & cone_a[j_], axis=1)
+                    ins = np.sum(rows_ok & inside_a[j_], axis=1)
+                    bad = (vs >= SKY_MIN_ANSWERS) & (ins < MIN_SKY_COVERAGE * vs)
+                    if SKY_WILSON:  # fewer answers: not even the interval's top reaches the rule
+                        bad |= (vs > 0) & (wilson_upper95(ins, vs) < MIN_SKY_COVERAGE)
+                    good[g_[bad], j_[bad]] = False
+        for g, j in zip(*np.nonzero(good)):
+            f, b, fl, u, sh, px, el, mt, su, sc = part[j]
+            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0) + (mt > 0) + (su > 0) + (sc > 0)
+            found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
+                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "elev": el,
+                           "misfit_deg": mt, "sector_unpol": su, "sector_clip": sc, "dof": True, "clip_apart": clip_apart,
+                           **gates[g]}))
+    return found
 
 
 def search(m, d, bound):
@@ -264,64 +347,33 @@ def search(m, d, bound):
     # the law moves the suns alike in every frame and sector, by more the further it departs (vrte
     # skies read 0.014-0.12 where sun_vector's latitude erred by 2-6 deg).
     misfit_degs = [0.0] if not np.any(d["misfit"] > 0) else [0.0, 10.0, 20.0, 40.0, 80.0]
+    # The clipped-sky gate (MethodCalibration::max_clipped_share; section 7k): not searched unless
+    # asked (--grid clip_c=...), so that the searches before the sensor masked its clipping are unchanged.
+    clip_c = [math.inf]
+    # Whether the unpolarized share the gate and terms read leaves the clipped sky out (clip_apart,
+    # unpolarized_of; section 7l): not searched unless asked (--grid clip_aparts=0,1).
+    clip_aparts = [0.0]
+    # The sector factor's growth with the clipped share (sector_clip; MethodCalibration::
+    # sector_clipped): masked, the clipped sky still costs a few-sector jackknife the part of the
+    # sky it would have compared (section 7l). Not searched unless asked (--grid sector_clips=...).
+    sector_clips = [0.0]
     # The sector factor's growth with the unpolarized share (sigma_of; section 7h): not searched
     # unless asked (--grid sector_unpols=...), so that the searches of sections 7a-7g are unchanged.
     sector_unpols = [0.0]
     grids = {"factors": factors, "sectors": sectors, "floors": floors, "unpols": unpols, "shares": shares,
              "pixels": pixels, "elevs": elevs, "misfit_degs": misfit_degs, "sector_unpols": sector_unpols,
              "res_c": res_c, "win_c": win_c,
-             "unpol_c": unpol_c, "aniso_c": aniso_c, "misfit_c": misfit_c}
+             "unpol_c": unpol_c, "aniso_c": aniso_c, "misfit_c": misfit_c, "clip_c": clip_c,
+             "clip_aparts": clip_aparts, "sector_clips": sector_clips}
     for k, v in GRID.items():
         grids[k][:] = v
-    gates, masks = [], []
-    res = np.nan_to_num(d["res"], nan=1e9)
-    for mr, mw, mu, ma, mm in itertools.product(res_c, win_c, unpol_c, aniso_c, misfit_c):
-        gates.append({"max_residual": mr, "min_window": mw, "max_unpolarized": mu, "max_anisotropy": ma,
-                      "max_misfit": mm})
-        masks.append(d["valid"] & ~(res > mr) & ~(d["window"] < mw) & ~(d["unpol"] > mu) & ~(d["aniso"] > ma)
-                     & ~(d["misfit"] > mm))
-    G = np.array(masks, dtype=np.float64)  # gates x rows
-    ngates = np.array([sum(1 for x in (g["max_residual"], g["max_unpolarized"], g["max_anisotropy"], g["max_misfit"])
-                           if math.isfinite(x)) + (g["min_window"] > 0) for g in gates])
-    err = np.nan_to_num(d["err"], nan=1e9)
-    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs, misfit_degs, sector_unpols))
     found = []
-    chunk = 512
-    for start in range(0, len(combos), chunk):
-        part = combos[start:start + chunk]
-        cone_ok, lie_v, inside_v = [], [], []
-        for f, b, fl, u, sh, px, el, mt, su in part:
-            sigma = sigma_of(d, {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px,
-                                 "elev": el, "misfit_deg": mt, "sector_unpol": su, "dof": True})
-            ok = K95 * sigma <= bound
-            cone_ok.append(ok)
-            lie_v.append(ok & ((err > LIE_DEG) | (err > LIE_SIGMA * MARGIN * sigma)))
-            inside_v.append(ok & (err <= K95 * sigma))
-        V = G @ np.array(cone_ok, dtype=np.float64).T  # gates x combos
-        L = G @ np.array(lie_v, dtype=np.float64).T
-        I = G @ np.array(inside_v, dtype=np.float64).T
-        with np.errstate(invalid="ignore", divide="ignore"):
-            cov = np.where(V > 0, I / np.maximum(V, 1), np.nan)
-        good = (V > 0) & (L == 0) & (cov >= 0.90) & (cov <= MAX_COVERAGE)
-        if MIN_SKY_COVERAGE > 0 and good.any():
-            gi, ji = np.nonzero(good)
-            cone_a, inside_a = np.array(cone_ok, dtype=bool), np.array(inside_v, dtype=bool)
-            for sky in set(d["sky"]):
-                at = d["sky"] == sky
-                for lo in range(0, len(gi), 4096):  # the passing pairs only, in blocks
-                    g_, j_ = gi[lo:lo + 4096], ji[lo:lo + 4096]
-                    rows_ok = G[g_].astype(bool) & at
-                    vs = np.sum(rows_ok & cone_a[j_], axis=1)
-                    ins = np.sum(rows_ok & inside_a[j_], axis=1)
-                    bad = (vs >= SKY_MIN_ANSWERS) & (ins < MIN_SKY_COVERAGE * vs)
-                    good[g_[bad], j_[bad]] = False
-        for g, j in zip(*np.nonzero(good)):
-            f, b, fl, u, sh, px, el, mt, su = part[j]
-            terms = (f > 0) + (b > 0) + (fl > 0) + (u > 0) + (sh > 0) + (el > 0) + (mt > 0) + (su > 0)
-            found.append((int(V[g, j]), float(cov[g, j]), int(ngates[g]), int(terms),
-                          {"factor": f, "sector": b, "floor": fl, "unpol": u, "share": sh, "pixels": px, "elev": el,
-                           "misfit_deg": mt, "sector_unpol": su, "dof": True,
-                           **gates[g]}))
+    res = np.nan_to_num(d["res"], nan=1e9)
+    err = np.nan_to_num(d["err"], nan=1e9)
+    combos = list(itertools.product(factors, sectors, floors, unpols, shares, pixels, elevs, misfit_degs, sector_unpols,
+                                    sector_clips))
+    for ca in clip_aparts:
+        found += search_with(d, bound, bool(ca), combos, res, err, res_c, win_c, unpol_c, aniso_c, misfit_c, clip_c)
     if not found:
         return None
     # Within 5 % of the most answers any calibration keeps: the fewest gates (each is a chance to
@@ -424,13 +476,16 @@ def main():
     ap.add_argument("--min-sky-coverage", type=float, default=0.0,
                     help=f"the search also requires this coverage of each sky model with at least {SKY_MIN_ANSWERS} "
                     "answers (0: pooled only)")
+    ap.add_argument("--sky-wilson", action="store_true",
+                    help="with --min-sky-coverage: a sky model with fewer answers also fails when the top of its "
+                    "coverage's 95 %% Wilson interval is below the rule")
     ap.add_argument("--grid", action="append", default=[], metavar="NAME=V,V,...",
                     help="search only these values of one grid (factors, sectors, floors, unpols, shares, pixels, "
-                    "elevs, misfit_degs, sector_unpols; res_c, win_c, unpol_c, aniso_c, misfit_c)")
+                    "elevs, misfit_degs, sector_unpols, clip_aparts, sector_clips; res_c, win_c, unpol_c, aniso_c, misfit_c, clip_c)")
     a = ap.parse_args()
-    global MAX_COVERAGE, MARGIN, MIN_SKY_COVERAGE
+    global MAX_COVERAGE, MARGIN, MIN_SKY_COVERAGE, SKY_WILSON
     known = ("factors", "sectors", "floors", "unpols", "shares", "pixels", "elevs", "misfit_degs", "sector_unpols", "res_c", "win_c",
-             "unpol_c", "aniso_c", "misfit_c")
+             "unpol_c", "aniso_c", "misfit_c", "clip_c", "clip_aparts", "sector_clips")
     for g in a.grid:
         name, _, values = g.partition("=")
         if name not in known:
@@ -439,6 +494,7 @@ def main():
     MAX_COVERAGE = a.max_coverage
     MARGIN = a.margin
     MIN_SKY_COVERAGE = a.min_sky_coverage
+    SKY_WILSON = a.sky_wilson
     by = load(a.csv, a.replace)
     if a.only:
         by = {m: d for m, d in by.items() if m in a.only}

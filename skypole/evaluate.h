@@ -79,8 +79,9 @@ struct MethodCalibration {
   // Decline a sky that departs from the method's own model beyond this (PoleEstimate::model_misfit).
   double max_model_misfit = std::numeric_limits<double>::infinity();
   // Decline a sky more than this share clipped by the sensor in some frame (clipped_share,
-  // cloud_share.h), beyond which the method's calibration holds no answer: invariance, whose σ has
-  // no term for the sky it lost, was 0.065° off at 6.8σ on a clear sky 78 % clipped (section 7k).
+  // cloud_share.h), beyond which the method's calibration holds no answer. Section 7k gave
+  // invariance one (30 %); 7l's search found a σ term (sector_clipped) that does better, and no
+  // method has the gate now.
   double max_clipped_share = std::numeric_limits<double>::infinity();
   // The factor on the sector jackknife's covariance (uncertainty.h; 0: not counted), and a σ term
   // unpolarized_deg·unpolarized_share (cloud_share.h: cloud, neutral points, saturation — errors
@@ -94,6 +95,11 @@ struct MethodCalibration {
   // raw sector jackknife said 0.99°; sun_vector_ephemeris' tuning seeds covered 0.996 of their clear
   // skies' truths and 0.951 of those 15–30 % unpolarized (section 7h).
   double sector_unpolarized = 0.0;
+  // The sector factor grows by this per unit of clipped share (UnreadableSky::clipped). The sensor
+  // masks what it clipped, and a sky whose sun side is masked leaves the six sectors unequal, so
+  // that their spread understates the error (great_circle, invariance: section 7l; invariance was
+  // 0.065° off at 6.8σ on a clear sky 78 % clipped, and is 3.3σ with it).
+  double sector_clipped = 0.0;
   // A σ term elevation_share·sun_elevation_misfit_deg (PoleEstimate: the shared error of the
   // ephemeris' suns that their elevations show and no jackknife resolves).
   double elevation_share = 0.0;

@@ -179,8 +179,8 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
     CHECK_THAT(sv.why_invalid, Catch::Contains("window (40 min) is shorter than the 120 min"));
     skypole::apply_calibration_gates(raw, c, stack, uncalibrated);
     CHECK(raw.valid);
-    // The committed calibration's own window gate (great_circle's 60 min, evaluate.cpp) says the same.
-    const skypole::PoleEstimate committed = skypole::run_method(stack, "great_circle");
+    // The committed calibration's own window gate (sun_vector's 60 min, evaluate.cpp) says the same.
+    const skypole::PoleEstimate committed = skypole::run_method(stack, "sun_vector");
     CHECK_FALSE(committed.valid);
     CHECK_THAT(committed.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
   }
