@@ -135,8 +135,8 @@ TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, no
   CHECK_THAT(e.why_invalid, Catch::StartsWith("cloud, neutral points or clipping: ") &&
                                 Catch::Contains("clipped by the sensor in some frame, which no method reads") &&
                                 Catch::Contains("a shorter exposure"));
-  // The clipped-share gate (max_clipped_share; searched, and no committed calibration has it since
-  // section 7l) names the clipping alone; above the half clipped here it lets the answer through.
+  // The clipped-share gate (max_clipped_share: invariance's) names the clipping alone; above the
+  // half clipped here it lets the answer through.
   skypole::PoleEstimate gated = skypole::run_method(clipped, "sun_vector", ungated);
   skypole::apply_calibration_gates(gated, {.method = "sun_vector", .max_clipped_share = 0.75}, clipped, {});
   CHECK(gated.valid);
