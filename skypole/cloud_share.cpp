@@ -39,10 +39,6 @@ UnreadableSky unreadable_sky(const SkyImages& sky) {
   return {total.unpolarized / frames, total.clipped / frames};
 }
 
-double unpolarized_share(const SkyImages& sky) { return unreadable_sky(sky).unpolarized; }
-
-double clipped_share(const SkyImages& sky) { return unreadable_sky(sky).clipped; }
-
 double ring_anisotropy(const SkyImages& sky) {
   if (sky.frames() == 0 || sky.valid_count == 0) return 0.0;
   const auto suns = find_suns(sky, sky.dolp);

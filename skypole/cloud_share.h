@@ -17,13 +17,10 @@
 
 namespace skypol::skypole {
 
-double unpolarized_share(const SkyImages& sky);
-// The part of unpolarized_share that is clipped sky (0 without a sensor's "clipped" channel).
-double clipped_share(const SkyImages& sky);
-// Both at once, from one pass (one find_suns): for a caller that reads both.
+// Both shares from one pass (one find_suns).
 struct UnreadableSky {
-  double unpolarized = 0;  // unpolarized_share: low DoLP or clipped
-  double clipped = 0;      // clipped_share: clipped alone
+  double unpolarized = 0;  // the unpolarized share: low DoLP or clipped
+  double clipped = 0;      // the part of it that is clipped sky (0 without a sensor's "clipped" channel)
 };
 UnreadableSky unreadable_sky(const SkyImages& sky);
 

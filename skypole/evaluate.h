@@ -47,17 +47,17 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
                                const std::vector<PoleEstimate>& estimates);
 bool used_by_auto(std::string_view method, bool site_known);
 
-// A method's calibration (skypole/uncertainty.h), measured by the calibration study on seeds 1, 3,
-// 4, 5 and 6 pooled, 1 and 3–8 for sun_vector_ephemeris, 1 and 3–9 for great_circle (and at
-// binning 8 on 1 and 3–5 for its cloud term, read with the ephemeris' on 1 and 3–8), 1 and 3–11 for sun_vector and invariance, 1 and 3–12
-// for sun_dolp (docs/benchmarks.md, sections 7a, 7c–7f and 7h). The stated covariance is
+// A method's calibration (skypole/uncertainty.h), measured by the calibration study: since section
+// 7l on seeds 1, 3–12 and 26 at binning 16 and 3, 4, 5, 21 and 27 at binning 8, rendered with the
+// clipped sky masked (invariance: 7k's with a higher floor); before it on seeds 1 and 3–12
+// (docs/benchmarks.md, sections 7a and 7c–7l). The stated covariance is
 //     C = w²·(inflation²·C_frames + b²·C_sectors) + s²·I,
-//     b = sector_inflation + sector_unpolarized·unpolarized_share
+//     b = sector_inflation + sector_unpolarized·unpolarized_share + sector_clipped·clipped_share
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
 //     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
 //          + (unpolarized_deg·unpolarized_share)² + (elevation_share·sun_elevation_misfit_deg)²
 //          + (misfit_deg·model_misfit)²
-// (pixel: pixel_angle_deg of the stack's camera, uncertainty.h; unpolarized_share: cloud_share.h)
+// (pixel: pixel_angle_deg of the stack's camera, uncertainty.h; the shares: cloud_share.h unreadable_sky)
 // — the frame jackknife sees errors that differ between frames, the sector jackknife errors that
 // live in one part of the sky in every frame, the unpolarized term how much of the sky a clear sky
 // cannot explain, the floor the bias left (a sky unlike the method's model), the residual term a

@@ -44,7 +44,7 @@ stack::Stack clear_day() {
 TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, and the gate declines it",
           "[skypole][cloud]") {
   const stack::Stack clear = clear_day();
-  const double clear_share = skypole::unpolarized_share(skypole::prepare_sky_images(clear, {}, 1, "test"));
+  const double clear_share = skypole::unreadable_sky(skypole::prepare_sky_images(clear, {}, 1, "test")).unpolarized;
   INFO("clear " << clear_share);
   CHECK(clear_share < 0.02);
 
@@ -53,7 +53,7 @@ TEST_CASE("the unpolarized share: clear day ≈ 0, a half-clouded sky ≈ ½, an
   REQUIRE(covered == Approx(0.5).margin(0.05));
   // Pixels near the sun and antisun are left out of the count, so the share of the rest that is
   // covered is not exactly `covered`; within 0.1 of it.
-  const double share = skypole::unpolarized_share(skypole::prepare_sky_images(cloudy, {}, 1, "test"));
+  const double share = skypole::unreadable_sky(skypole::prepare_sky_images(cloudy, {}, 1, "test")).unpolarized;
   INFO("cloudy " << share << " covered " << covered);
   CHECK(share == Approx(covered).margin(0.1));
 
@@ -110,10 +110,11 @@ TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, no
   CHECK(u.clipped_rays.empty());
   CHECK(c.clipped_rays.size() == static_cast<std::size_t>(sky.valid_count - c.valid_count));
   INFO("covered " << covered);
-  CHECK(skypole::unpolarized_share(c) == Approx(covered).margin(0.1));
-  CHECK(skypole::unpolarized_share(u) < 0.02);
-  CHECK(skypole::clipped_share(c) == Approx(skypole::unpolarized_share(c)).margin(0.02));  // the clear half reads polarized
-  CHECK(skypole::clipped_share(u) == 0);
+  const skypole::UnreadableSky read_c = skypole::unreadable_sky(c), read_u = skypole::unreadable_sky(u);
+  CHECK(read_c.unpolarized == Approx(covered).margin(0.1));
+  CHECK(read_u.unpolarized < 0.02);
+  CHECK(read_c.clipped == Approx(read_c.unpolarized).margin(0.02));  // the clear half reads polarized
+  CHECK(read_u.clipped == 0);
   // A sky clipped all over is declined for that, not for want of sky.
   stack::Stack all_clipped = clipped;
   for (stack::Frame& f : all_clipped.frames)
