@@ -17,8 +17,8 @@ anything again:
               + (e*sun_elevation_misfit_deg)^2 + (m*model_misfit)^2,
     b = sector + sector_unpol*unpolarized_share + sector_clip*clipped_share,
 w^2 the widening for the jackknives' few groups (uncertainty.h, few_groups_widening2: the F(2, nu)
-95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of min(frames, 6) - 1 and
-5), declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
+95 % point over chi2_2's, nu the Welch-Satterthwaite degrees of freedom of the frame groups - 1
+(the frame_groups column: min(frames, 6), great_circle min(frames, 24)) and 5), declined when a gate says so or when the 95 % cone (2.4477 sigma) is wider than the bound.
 Several runs (seeds) are pooled. Per method it prints the calibration with zero lies (counted at
 err > 5*margin*sigma) and coverage in the band [0.90, --max-coverage] (and, with
 --min-sky-coverage C, at least C for every sky model with 10 answers or more, and with --sky-wilson
@@ -100,7 +100,7 @@ def load(paths, replace=()):
         if m == "auto":
             continue
         d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "cf", "cs", "res", "window", "unpol",
-                                               "clip", "aniso", "misfit", "elev", "pixel", "off", "frames", "sensor", "seed")})
+                                               "clip", "aniso", "misfit", "elev", "pixel", "off", "frames", "groups", "sensor", "seed")})
         d["stack"].append(int(r["stack"]))
         d["sky"].append(r["sky"])
         v = r["valid"] == "1"
@@ -129,6 +129,10 @@ def load(paths, replace=()):
         d["elev"].append(fnum(r.get("sun_elevation_misfit_deg", "0") or "0") if v else 0.0)
         d["pixel"].append(fnum(r["pixel_deg"]))
         d["frames"].append(int(r["frames"]))
+        # The frame jackknife's groups (evaluate.h frame_jackknife_max_groups); a run before the
+        # column: min(frames, 6), what every method dealt its frames into then.
+        d["groups"].append(int(r["frame_groups"]) if v and r.get("frame_groups", "") not in ("", "0")
+                           else min(int(r["frames"]), 6))
         d["sensor"].append(r["sensor"])
         d["seed"].append(int(r["seed"]))
     for m, d in by.items():
@@ -167,9 +171,9 @@ def f95_ratio(nu):
 
 def jackknife_factor2(d, A, B, b):
     """The squared widening of a covariance estimated from few jackknife groups (uncertainty.h):
-    Welch-Satterthwaite degrees of freedom of A + B, A from the frame jackknife's min(frames, 6)
-    groups, B from the 6 sectors."""
-    nf = np.minimum(d["frames"], 6) - 1.0
+    Welch-Satterthwaite degrees of freedom of A + B, A from the frame jackknife's groups (the
+    run's frame_groups column), B from the 6 sectors."""
+    nf = d["groups"] - 1.0
     ns = SECTORS - 1.0
     den = A * A / np.maximum(nf, 1.0) + np.where(b > 0, B * B / ns, 0.0)
     with np.errstate(invalid="ignore", divide="ignore"):

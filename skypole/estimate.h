@@ -127,6 +127,7 @@ struct PoleEstimate {
   // fits the factors from. Zero: not measured (sectors: a method without a sector jackknife).
   Eigen::Matrix2d jackknife_frames_rad2 = Eigen::Matrix2d::Zero();
   Eigen::Matrix2d jackknife_sectors_rad2 = Eigen::Matrix2d::Zero();
+  int jackknife_frame_groups = 0;     // how many frame groups the first was measured from
   double seconds = 0;                 // wall-clock run time of the estimator
 };
 

@@ -108,6 +108,8 @@ bool has_sector_jackknife(std::string_view method) {
          method == "great_circle" || method == "invariance";
 }
 
+int frame_jackknife_max_groups(std::string_view method) { return method == "great_circle" ? 24 : 6; }
+
 bool used_by_auto(std::string_view method, bool site_known) {
   if (method == "auto") return false;
   return method != "sun_vector_ephemeris" || site_known;
@@ -172,7 +174,7 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
   }
   // The answer. sun_vector_ephemeris' when it agrees, as it stands (its pole and its σ): its median
   // error is some twenty times smaller than any other method's, and averaging pulls it towards
-  // worse ones (0.0175° against 0.0105° on seed 1, docs/benchmarks.md section 7a). Without it (a
+  // worse ones (0.0175° against 0.0105° on seed 1, docs/calibration-history.md section 7a). Without it (a
   // capture without its site, or the ephemeris declined or outvoted), the inverse-variance mean of
   // the agreeing answers, stated with the σ of the sharpest of them: the methods read the same
   // frames, so their errors are correlated, and the mean's own σ would claim more than the data
@@ -240,119 +242,39 @@ PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
 }  // namespace
 
 const std::vector<MethodCalibration>& method_calibrations() {
-  // Read off the uncalibrated runs of `skypol tradeoff calibration --seed S --binning 16
-  // --max-uncertainty inf --uncalibrated` for seeds 1 (500 scenes), 3, 4, 5 and 6 (300 each),
-  // pooled, by `scripts/calibration_tune.py S1 S3 S4 S5 S6 --margin 0.9 --max-coverage 0.98
-  // --bound 2.5` (docs/benchmarks.md, section 7a): per method, the calibration with no error above 5°
-  // nor above 4.5σ (the margin leaves held-out scenes room), 90–98 % of the truths inside the stated
-  // cone, and the most answers with the fewest gates and σ terms, under the study's bound (a 95 %
-  // cone of at most 2.5°: σ ≤ 1.02°, so that an honest answer is more than 5° off less than once in
-  // 10⁵). The jackknives' part is widened for their few groups (uncertainty.h, "Few groups"); a
-  // floor of at least 0.0001° stands for what no jackknife resolves on a noise-free stack (float32
-  // Stokes, the solvers' tolerances: its errors are 1e-6–1e-4°); a method with a sector jackknife
-  // counts it. invariance and sun_dolp were retuned after seed 7 (it lied there once each) on seeds
-  // 1 and 3–7 pooled (2,000 scenes), also requiring 80 % coverage of every sky model with 10 answers
-  // or more (`--min-sky-coverage 0.8`); seed 8 was held out (section 7c). sun_vector_ephemeris was
-  // retuned after seed 8 (it lied there once: a shared azimuth error of its suns under cloud) on
-  // seeds 1 and 3–8 pooled (2,300 scenes), the same rules, with its elevation term; seed 9 is held
-  // out for it, seed 12 for every method (section 7d). sun_vector and invariance, which measure the
-  // sky's Rayleigh-law misfit since, were retuned on seeds 1 and 3–11 with it (section 7e); seeds
-  // 12–14 are held out for them, 13 and 14 for every method. sun_dolp was retuned on seeds 1 and
-  // 3–12 (section 7f); seed 15 is held out for every method, and seeds 16–18 at binning 8, a
-  // user's 306×256 (section 7g: great_circle lied once on seed 16, under cloud). Section 7h grew
-  // great_circle's and sun_vector_ephemeris' sector factor with the unpolarized share and held out
-  // seeds 19–22 (21 at binning 8 still caught the ephemeris at 6.1σ and classic at 25σ).
-  //
-  // Since section 7l (the sensor masks what it clipped, 7k, so the clipped sky no longer biases an
-  // answer): every method but classic retuned on its tuning seeds rerun with the mask, 5,300 scenes
-  // (binning 16: 1, 3–12 and 26; binning 8: 3, 4, 5, 21 and 27), on finer grids, with the clipped
-  // share's gate and sector term searched, under sun_vector's stricter rules (great_circle too,
-  // after held-out seeds 16, 21 and 27) or 7d's (the ephemeris). Coverage on that pool, no lie:
-  //  - sun_vector_ephemeris: ×0.4, ×0.1, floor 0.0003°, 0.25 × elevation misfit; residual ≤ 5°,
-  //    at most 30 % unpolarized (or clipped). 2,179 answers, 0.978 (7k's: 0.993).
-  //  - sun_vector: ×0.45, ×0.25, floor 0.025°, 1° × unpolarized; residual ≤ 5°, window ≥ 60 min,
-  //    misfit ≤ 0.01, no cloud gate. 992 answers, 0.950 (7k's: 788, 0.985).
-  //  - great_circle: ×0.45, ×(0.25 + 1 × the clipped share), floor 0.03°; residual ≤ 5°, misfit
-  //    ≤ 0.01. 487 answers, 0.951.
-  //  - invariance: 7k's calibration (×0.5, ×0.5, 80° × misfit; residual ≤ 0.5°, clipped ≤ 30 %)
-  //    with its floor raised from 0.0001° to 0.001°, invariance's own numerical error on a
-  //    noise-free stack (held-out seed 31: 0.0012° off, 6.6σ under the old floor). The searches'
-  //    picks shrank the frame factor to ×0.2–0.25 and failed on held-out seeds: 0.882 coverage on
-  //    28 and 29, then 0.985° off at 10σ on seed 33 (5 frames through the colour sensor; 4.2σ
-  //    here). On the 5,300 scenes 294 answers, 0.986, above the band; on held-out seeds 28–33 no
-  //    lie, largest z 4.22.
-  //  - sun_dolp: ×0.25, ×0.5, floor 0.03°, 1° × unpolarized; residual ≤ 5°, misfit ≤ 0.01. 1,031
-  //    answers, 0.979.
-  // The bullets below are how each got there before 7l (the terms they name are the reasons the
-  // search kept them).
-  //  - sun_vector_ephemeris: ×0.5 frames, ×(0.25 + 0.5 × the unpolarized share) sectors, floor
-  //    0.0003°, 0.25 × its suns' elevation misfit (PoleEstimate::sun_elevation_misfit_deg),
-  //    residual ≤ 5° (a saturated sensor's fit), at most 30 % of the sky unpolarized. Its
-  //    coverage fell with the sky's cloud (seeds 1 and 3–8: 0.996 under 5 % unpolarized, 0.951 at
-  //    15–30 %, where all 4 tuning answers past 4σ were), as great_circle's sector spread had hidden
-  //    a cloud's error: the same growth of the sector factor brings that band to 0.966 and leaves
-  //    one answer past 4σ, coverage 0.984 (0.975–0.990; ×1 per unit: 0.991, above the band), and
-  //    held-out seed 19's 0.175° answer at 5.4σ (3 frames, 14 % unpolarized) to 4.5σ (section 7h).
-  //  - sun_vector (until section 7i): ×0.5, ×0.25, floor 0.1°, 0.5° × the unpolarized share, 40° × the sky's
-  //    Rayleigh-law misfit (PoleEstimate::model_misfit: a multiply scattering sky moves its suns in
-  //    elevation alike in every frame and sector, by more the further the sky departs from the
-  //    law), residual ≤ 5°, at most 30 % of the sky unpolarized. Held-out seeds 10 and 11 caught
-  //    it 4.65° off at σ 0.90° on a cloudy Berry sky through the colour sensor and 4.32° off at
-  //    σ 0.83° on a vrte sky, and a retune that only widened it (×1.5, floor 0.7°, a 60 min window)
-  //    still answered 4.08° off at 4.4σ on seed 11 and stated a σ twelve times its median error
-  //    on clear Rayleigh skies. So it (and invariance, below) is searched with a stricter margin
-  //    (0.8: no tuning error beyond 4σ) and per-sky rule (0.9): the search's pick on seeds 1 and 3–11
-  //    (3,200 scenes), 478 answers, coverage 0.979 (Rayleigh 0.988, vrte 0.927; section 7e). When
-  //    the misfit stopped reading the sensor's noise (section 7i), that term no longer covered a
-  //    noisy clear sky's short window (seed 6: 0.58° off at 4.3σ) and seed 11's vrte answer came
-  //    back (4.32° at 4.5σ). Rerun on the same seeds and searched under the same rules, the pick is
-  //    now: ×0.5, ×0.25, floor 0.03°, 1° × the unpolarized share, residual ≤ 5°, a window of at
-  //    least 60 min, at most 50 % unpolarized, and great_circle's and sun_dolp's misfit ≤ 0.01 in
-  //    place of the term: 507 answers, coverage 0.978, largest error 1.09°. It declines a multiply
-  //    scattering sky, as they do; no search with the term kept every tuning error within 4σ.
-  //  - sun_dolp: ×0.25 frames, ×0.5 sectors, floor 0.03°, 0.5° × the unpolarized share, residual
-  //    ≤ 5°, model misfit ≤ 0.01 (its Rayleigh law fits within 1 % of Pmax beyond the noise: clear
-  //    Rayleigh skies read 0–0.002, Berry's and vrte's 0.014–0.12, where its answers were 2.5–4°
-  //    off at a coverage of 0.66). 7c's ×0.5 frames covered 347 of 351 answers on seeds 8–14
-  //    (0.989, above the band): its error lives in parts of the sky (the sector jackknife binds: a
-  //    sector factor under 0.5 keeps every tuning error within 4σ only with a wider frame factor or
-  //    floor), not in frames. Retuned on seeds 1 and 3–12 (3,500 scenes) under sun_vector's
-  //    stricter rules: 591 answers, coverage 0.9645, largest z 3.9. The search's own pick traded
-  //    the misfit gate for a 40° × misfit term (612 answers, 6 of them vrte at a coverage of 0.83,
-  //    pooled 0.979, the band's edge), so its gate was fixed (section 7f). Those seeds rerun with
-  //    the block misfit (section 7j) answer seed 4's scene 251 (57 % unpolarized, misfit 0.004),
-  //    1.55° off at 5.0σ; the same search under the same rules adds 0.5° × the unpolarized share:
-  //    615 answers, coverage 0.971, largest z 3.92 (that scene 3.7σ).
-  //  - great_circle: ×0.5, ×0.25, floor 0.025°, 0.5° × the unpolarized share, residual ≤ 5°, a
-  //    window of at least 60 min, Rayleigh-law misfit ≤ 0.01 (its equal-DoLP sets are great circles
-  //    only where DoLP is a function of the angle to the sun; held-out seed 9 caught it 4.6° off at
-  //    σ 0.65° on a clear vrte sky whose ring anisotropy, 0.10, passed the gate it had). Retuned on
-  //    seeds 1 and 3–9 pooled (2,600 scenes) with sun_dolp's misfit threshold; the search kept 0.02
-  //    and a floor of 0.03°, which answers twice on vrte skies (one of them 2.9° off, coverage 0.5,
-  //    below the per-sky rule's 10 answers), and the floor between the grid's 0.01° and 0.03° brings
-  //    the coverage of the 0.01 gate to the band's middle (0.968; 0.03°: 0.982). Its sector factor
-  //    grows by 0.5 per unit of unpolarized share (section 7h): held-out seed 16 at binning 8
-  //    caught it 2.82° off at 6.6σ under cloud, where the raw sector jackknife (0.99°) had seen
-  //    the error; on the tuning seeds, rerun at binning 16 and 8, the term costs 10 of 326 answers.
-  //  - invariance: ×0.5 frames, ×0.5 sectors (its own, about the pole: invariance.h), floor 0.0001°,
-  //    80° × the sky's Rayleigh-law misfit (its co-rotating model takes the pattern to be fixed to
-  //    the sun; on Berry's and vrte's skies, misfit 0.013–0.08, it erred by 2–6°), residual ≤ 0.5°:
-  //    the search's pick on seeds 1 and 3–11 (3,200 scenes), under both 7d's rules and sun_vector's
-  //    stricter ones, 175 answers, all on Rayleigh skies (7c's calibration: 167, two of them vrte
-  //    answers 3.0° and 4.46° off, the second at 4.5σ), coverage 0.971, largest z 3.3; section 7e.
-  //  - classic: ×6, its residual beyond 6 pixel angles a quarter counted, 2° × the unpolarized share,
-  //    ring anisotropy ≤ 0.2 (the frame-only calibration: no search finds one with answers in the
-  //    band; at binning 16 and 8 it answers 0–2 of 300 random scenes), and great_circle's and
-  //    sun_dolp's Rayleigh-law misfit ≤ 0.01, taken as it is: classic answers too rarely for a
-  //    tuning set to size a gate, and its two lies on vrte skies (held-out seed 21, misfit 0.012; the
-  //    shipped vrte scene, 0.025) were where the law did not hold (section 7i). It waited for a
-  //    misfit that does not read a sensor's noise as a departure (sun_vector.h rayleigh_misfit: the
-  //    paper's Rayleigh sky through the colour sensor read 0.017 before, and reads 0).
+  // Read off uncalibrated runs of the calibration study (`skypol tradeoff calibration … --uncalibrated
+  // --max-uncertainty inf`) by scripts/calibration_tune.py, under the rules of docs/benchmarks.md
+  // section 7: no tuning error beyond 5 × margin σ (0.9 for the ephemeris, 0.8 for the others),
+  // 90–98 % of the truths inside the stated cone, each sky model covered, every cone within the
+  // study's 2.5° bound, and of those the calibration with the most answers and the fewest gates and
+  // terms. The pool: 5,300 scenes rendered with the clipped sky masked (binning 16 seeds 1, 3–12 and
+  // 26; binning 8 seeds 3, 4, 5, 21 and 27; section 7l of docs/calibration-history.md, where the
+  // reasons for each term below are told with the held-out scenes that found them); great_circle's
+  // since section 7m. In one line each:
+  //  - sun_vector_ephemeris: its suns' elevation misfit shows an error every frame shares (7d: 1.01°
+  //    off at 5.1σ under cloud); past 30 % of unreadable sky no factor held its tails (7a, 7h).
+  //  - sun_vector: a window under 60 min and a sky past 1 % Rayleigh-law misfit gave errors no
+  //    jackknife saw (7d, 7e, 7i); 1° × the unpolarized share covers cloud without a cloud gate (7l).
+  //  - great_circle: its frame jackknife leaves out one frame at a time (evaluate.h
+  //    frame_jackknife_max_groups), so its σ is no longer a six-group draw whose tail lied at 5.2σ
+  //    on held-out seed 2 at binning 8; the sector factor grows with the unpolarized share, since
+  //    under cloud the sectors measure a bias (7h, 7m). Tuned on the 7l pool and seed 36 rerun so,
+  //    held out on seeds 37–39 (binning 8) and 37–38 (binning 16): section 7m.
+  //  - sun_dolp: its error lives in parts of the sky, so the sector factor binds (7f); it fits the
+  //    Rayleigh law, so it declines a sky past 1 % misfit (7c); 1° × the unpolarized share (7j, 7l).
+  //  - invariance: 7k's calibration with the floor raised to 0.001°, its numerical error on a
+  //    noise-free stack; the searches' own picks failed on held-out seeds 28–33, so this one was
+  //    chosen by hand and held out on 34 and 35 (7l). Its co-rotating model takes the sky's pattern to
+  //    be fixed to the sun: 80° × misfit (7e); a sky more than 30 % clipped has no answer it can
+  //    state (7k).
+  //  - classic: the frame-only calibration, taken as it is: it answers 0–4 of 300 random scenes, too
+  //    few to tune; its residual term counts what exceeds its blob's few pixels, and its misfit gate
+  //    declines the vrte skies it lied on (7i).
   static const std::vector<MethodCalibration> c = {
       {.method = "classic", .inflation = 6.0, .floor_deg = 0.0, .residual_share = 0.25,
        .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .max_model_misfit = 0.01, .unpolarized_deg = 2.0},
-      {.method = "great_circle", .inflation = 0.45, .floor_deg = 0.03, .max_residual_deg = 5.0,
-       .max_model_misfit = 0.01, .sector_inflation = 0.25, .sector_clipped = 1.0},
+      {.method = "great_circle", .inflation = 0.45, .floor_deg = 0.05, .max_residual_deg = 5.0,
+       .max_model_misfit = 0.01, .sector_inflation = 0.2, .sector_unpolarized = 1.0},
       {.method = "invariance", .inflation = 0.5, .floor_deg = 0.001, .max_residual_deg = 0.5,
        .max_clipped_share = 0.3, .sector_inflation = 0.5, .misfit_deg = 80.0},
       {.method = "sun_vector", .inflation = 0.45, .floor_deg = 0.025, .max_residual_deg = 5.0, .min_window_min = 60.0,
@@ -540,23 +462,25 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   apply_gates(e, cal, stack, input, unread);
   if (!e.valid) return e;
   std::optional<Eigen::Matrix2d> frames;
+  const int frame_count = static_cast<int>(stack.frames.size());
+  const int max_groups = frame_jackknife_max_groups(method);
   if (cl) {
-    frames = frame_jackknife(e, static_cast<int>(stack.frames.size()), [&](const std::vector<std::uint8_t>& keep) {
+    frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
       return classic_from(*cl, cl_params, &keep).estimate;
-    });
+    }, max_groups);
   } else if (gc) {
-    frames = frame_jackknife(e, static_cast<int>(stack.frames.size()), [&](const std::vector<std::uint8_t>& keep) {
+    frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
       return great_circle_pole(*gc, gc_params, &keep).estimate;
-    });
+    }, max_groups);
   } else {
-    frames = frame_jackknife(e, static_cast<int>(stack.frames.size()), [&](const std::vector<std::uint8_t>& keep) {
+    frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
       return run_bare(frames_kept(stack, keep), method, input);
-    });
+    }, max_groups);
   }
   if (!frames) return e;
   Jackknives jack;
   jack.frames = *frames;
-  jack.frame_groups = frame_jackknife_groups(static_cast<int>(stack.frames.size()));
+  jack.frame_groups = frame_jackknife_groups(frame_count, max_groups);
   if (sectors) {
     // Sectors about the principal point, so that each holds a sixth of the sky (invariance: about
     // its pole, within the window it reads).

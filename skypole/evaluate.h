@@ -50,7 +50,7 @@ bool used_by_auto(std::string_view method, bool site_known);
 // A method's calibration (skypole/uncertainty.h), measured by the calibration study: since section
 // 7l on seeds 1, 3–12 and 26 at binning 16 and 3, 4, 5, 21 and 27 at binning 8, rendered with the
 // clipped sky masked (invariance: 7k's with a higher floor); before it on seeds 1 and 3–12
-// (docs/benchmarks.md, sections 7a and 7c–7l). The stated covariance is
+// (docs/calibration-history.md, sections 7a and 7c–7l). The stated covariance is
 //     C = w²·(inflation²·C_frames + b²·C_sectors) + s²·I,
 //     b = sector_inflation + sector_unpolarized·unpolarized_share + sector_clipped·clipped_share
 // (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
@@ -95,10 +95,12 @@ struct MethodCalibration {
   // raw sector jackknife said 0.99°; sun_vector_ephemeris' tuning seeds covered 0.996 of their clear
   // skies' truths and 0.951 of those 15–30 % unpolarized (section 7h).
   double sector_unpolarized = 0.0;
-  // The sector factor grows by this per unit of clipped share (UnreadableSky::clipped). The sensor
-  // masks what it clipped, and a sky whose sun side is masked leaves the six sectors unequal, so
-  // that their spread understates the error (great_circle: section 7l; its coverage on partly
-  // clipped skies at binning 8 was 0.882 on held-out seeds 21 and 27).
+  // The sector factor grows by this per unit of clipped share (UnreadableSky::clipped): a sky whose
+  // sun side the sensor masked leaves the six sectors unequal, so that their spread can understate
+  // the error. great_circle took it in section 7l (its coverage on partly clipped skies at binning 8
+  // was 0.882 on seeds 21 and 27); since its delete-one frame jackknife (7m) no committed
+  // calibration needs it (great_circle covers 0.923 of its 52 partly clipped tuning answers
+  // without it), and the searches keep offering it.
   double sector_clipped = 0.0;
   // A σ term elevation_share·sun_elevation_misfit_deg (PoleEstimate: the shared error of the
   // ephemeris' suns that their elevations show and no jackknife resolves).
@@ -115,6 +117,16 @@ struct MethodCalibration {
 // which refits its co-rotating window about the pole without each sector of that window (a masked
 // wedge of the whole sky would trip its edge checks; invariance.h). classic stays the paper's.
 bool has_sector_jackknife(std::string_view method);
+// The most frame groups `method`'s frame jackknife deals its frames into (uncertainty.h
+// frame_jackknife). A jackknife's variance is itself estimated from K − 1 degrees of freedom, so
+// few groups state a σ that is often far too small: even when right on average, an error beyond 5
+// stated σ (a lie) is then a tail of F(2, K − 1) — 0.27 % of answers at K = 6, 0.018 % at K = 18
+// (uncertainty.h, "Few groups"). great_circle refits only its pole from cached circles (great_circle.h),
+// so it deletes one frame at a time, up to 24: on held-out seed 2's scene 9 at binning 8 (19 frames,
+// mono sensor), seven draws of the noise gave errors of 0.09–0.53° and raw frame σs of 0.07–0.49°
+// with 6 groups, 0.13–0.41° with 19 (docs/benchmarks.md, section 7m). The others rerun the
+// whole method per group and keep 6.
+int frame_jackknife_max_groups(std::string_view method);
 const std::vector<MethodCalibration>& method_calibrations();
 
 // The gates of `c` on a valid answer `e` of a method on `stack` (run_method applies its own

@@ -220,6 +220,7 @@ void set_calibrated_uncertainty(PoleEstimate& e, const Jackknives& j, double a, 
                           : 1.0;
   e.jackknife_frames_rad2 = j.frames;
   e.jackknife_sectors_rad2 = j.sectors;
+  e.jackknife_frame_groups = j.frame_groups;
   set_uncertainty(e, w2 * jack + Eigen::Matrix2d::Identity() * floor * floor);
 }
 

@@ -266,7 +266,7 @@ void study_calibration(const StudyOptions& o) {
               "sensor", "exposure_us", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
               "inside_cone", "lie", "residual_deg", "model_misfit", "sun_elevation_misfit_deg", "unpolarized_share", "clipped_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
-              "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
+              "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "frame_groups", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
               "sectors_aa_deg2", "sectors_ab_deg2", "sectors_bb_deg2", "estimate_s"});
   // One record per (scene, method), summarised per method and per method and sky model.
   struct Outcome {
@@ -401,6 +401,7 @@ void study_calibration(const StudyOptions& o) {
       const Eigen::Vector2d off = skypole::tangent_offset(truth_pole, e) / kDeg;
       rows.set("offset_az_deg", off.x()).set("offset_alt_deg", off.y());
       rows.set("sigma_frames_deg", skypole::sigma_deg_of(cf))
+          .set("frame_groups", e.jackknife_frame_groups)
           .set("sigma_sectors_deg", skypole::sigma_deg_of(cs))
           .set("frames_aa_deg2", cf(0, 0) * d2)
           .set("frames_ab_deg2", cf(0, 1) * d2)

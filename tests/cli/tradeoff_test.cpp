@@ -341,6 +341,9 @@ TEST_CASE("skypol tradeoff calibration --small: one row per scene and method, a 
       CHECK(num(r, "sigma_latitude_deg") <= sigma * (1 + 1e-4));
       CHECK(r.at("inside_cone") == (err <= cone ? "1" : "0"));
       CHECK(r.at("lie") == (err > 5 || err > 5 * sigma ? "1" : "0"));
+      // The frame jackknife's groups: one frame each for great_circle (up to 24), else at most 6.
+      if (r.at("method") != "auto")
+        CHECK(num(r, "frame_groups") == std::min(num(r, "frames"), r.at("method") == "great_circle" ? 24.0 : 6.0));
       inside[r.at("method")] += r.at("inside_cone") == "1";
       lies[r.at("method")] += r.at("lie") == "1";
       CHECK(r.at("why_invalid").empty());

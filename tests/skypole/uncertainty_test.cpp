@@ -63,6 +63,10 @@ TEST_CASE("few jackknife groups widen the cone to the F(2, ν) quantile", "[skyp
   CHECK(skypole::few_groups_widening2(1.0, 10001, 0.0, 0) == Approx(1.0).epsilon(1e-3));
   CHECK(skypole::frame_jackknife_groups(3) == 3);
   CHECK(skypole::frame_jackknife_groups(24) == 6);
+  // great_circle's delete-one jackknife (evaluate.h frame_jackknife_max_groups): one frame a group,
+  // up to 24.
+  CHECK(skypole::frame_jackknife_groups(19, 24) == 19);
+  CHECK(skypole::frame_jackknife_groups(30, 24) == 24);
 
   // An independent check by simulation: a 2-D error of σ 1 per axis, and a variance estimated
   // from ν degrees of freedom (σ̂² = χ²_ν/ν, independent of the error). The widened cone,
@@ -130,12 +134,43 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
               << e.sigma_bearing_deg << "°, σ latitude " << e.sigma_latitude_deg << "°\n";
     CHECK(e.cone95_deg > 0);
     CHECK(s.angular_error_deg < 5 * e.sigma_deg + 0.05);  // not a lie
-    CHECK(s.angular_error_deg < e.cone95_deg);           // inside its own cone on an easy day
+    // Inside its own cone on an easy day. great_circle's answer here is 2.5σ off, which a 95 % cone
+    // misses one day in twenty: its coverage is checked over thirty such days below.
+    if (m != "great_circle") CHECK(s.angular_error_deg < e.cone95_deg);
     // The methods whose calibration factor is modest state a useful cone; classic, great_circle
     // and sun_dolp carry the large factors their cloud and sky-model errors earned (evaluate.cpp).
     if (m == "invariance" || m == "sun_vector" || m == "sun_vector_ephemeris" || m == "auto")
       CHECK(e.cone95_deg < 5);
   }
+}
+
+TEST_CASE("great_circle's cone holds its error on 28 of 30 noisy days, and it never lies",
+          "[skypole][uncertainty]") {
+  // The noisy day above at thirty headings and noise draws (128 px, 17 frames over 8 h, DoLP noise
+  // 0.01). Its delete-one frame jackknife and its calibration (evaluate.h) hold 28 (as did six
+  // frame groups and the calibration before them, with cones 15 % wider); a σ half as large would
+  // hold some 20.
+  int answers = 0, inside = 0;
+  for (int seed = 1; seed <= 30; ++seed) {
+    testing::SyntheticSpec spec;
+    spec.times = testing::times_every("2022-09-23T08:00:00Z", "2022-09-23T16:00:00Z", 30);
+    spec.size = 128;
+    spec.heading_deg = 77 + seed;
+    spec.noise = 0.01;
+    spec.max_dolp = 0.7;
+    spec.seed = static_cast<std::uint32_t>(seed);
+    const stack::Stack stack = testing::make_stack(spec);
+    const skypole::PoleEstimate e = skypole::run_method(stack, "great_circle");
+    INFO("seed " << seed << ": " << e.why_invalid);
+    REQUIRE(e.valid);
+    CHECK(e.jackknife_frame_groups == 17);  // one frame a group
+    const double err = skypole::score(e, stack.frames.front().truth).angular_error_deg;
+    CHECK(err < 5 * e.sigma_deg);
+    ++answers;
+    inside += err < e.cone95_deg ? 1 : 0;
+  }
+  CHECK(answers == 30);
+  CHECK(inside == 28);
 }
 
 TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
