@@ -2,6 +2,8 @@
 #include "skypole/sky_images.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -313,9 +315,37 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
+  return nth_smallest(v, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1)));
+}
+
+double nth_smallest(const std::vector<double>& v, std::size_t k) {
+  const auto by_sorting = [&] {
+    std::vector<double> w = v;
+    std::nth_element(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(k), w.end());
+    return w[k];
+  };
+  if (v.size() < 4096) return by_sorting();
+  // A double's bits as an unsigned key in the order of its value (negatives reversed).
+  const auto key = [](double x) {
+    const auto b = std::bit_cast<std::uint64_t>(x);
+    return (b >> 63) ? ~b : b | (std::uint64_t{1} << 63);
+  };
+  constexpr int kShift = 48;  // buckets by sign, exponent and 4 bits of mantissa
+  std::vector<std::uint32_t> count(std::size_t{1} << (64 - kShift), 0);
+  for (const double x : v) {
+    if (std::isnan(x)) return by_sorting();  // where nth_element's answer is its own
+    ++count[key(x) >> kShift];
+  }
+  std::size_t bucket = 0, below = 0;
+  while (below + count[bucket] <= k) below += count[bucket++];
+  std::vector<double> in;
+  in.reserve(count[bucket]);
+  for (const double x : v)
+    if ((key(x) >> kShift) == bucket) in.push_back(x);
+  const auto at = in.begin() + static_cast<std::ptrdiff_t>(k - below);
+  std::nth_element(in.begin(), at, in.end());
+  // −0 and +0 are equal to nth_element, which may return either; the key orders them.
+  return *at == 0 ? by_sorting() : *at;
 }
 
 std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,

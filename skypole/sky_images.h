@@ -101,6 +101,11 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
 // 0 for an empty v.
 double quantile(std::vector<double> v, double q);
 
+// The element of rank k (0-based, k < v.size()) of v: what std::nth_element would put at k, found
+// without sorting a copy of v (a radix histogram of the leading bits picks the few elements that
+// can be it), since the robust fits take the median of millions of residuals per frame and round.
+double nth_smallest(const std::vector<double>& v, std::size_t k);
+
 // Bilinear sample of `image` at continuous pixel (u, v) (pixel centres at integers); nullopt if
 // any of the four neighbours is not valid.
 std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,

@@ -71,7 +71,7 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
       for (std::size_t i = 0; i < n; ++i)
         if (sky.valid[i] && std::isfinite(s0[i])) v.push_back(s0[i]);
       const double top = v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
-      const double median = quantile(v, 0.5);
+      const double median = quantile(std::move(v), 0.5);
       for (std::size_t i = 0; i < n; ++i) {
         if (!sky.valid[i]) continue;
         mark[i] |= SkyJudgments::kJudged;
@@ -92,7 +92,7 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
       if (g >= p.min_shape) ratios.push_back(static_cast<double>(dolp[i]) / g);
     }
     if (ratios.size() < 20) return;
-    const double pmax = quantile(ratios, 0.9);
+    const double pmax = quantile(std::move(ratios), 0.9);
     const FrameEVectors* ev = cached(f);
     std::size_t k = 0;  // ev's cursor
     std::vector<std::pair<std::size_t, double>> res;  // the pixels whose E-vector was read, its angle out of plane
@@ -119,7 +119,7 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
       good_res.push_back(res.back().second);
     }
     if (good_res.size() < 20) return;
-    const double cut = std::max(p.aolp_min_deg * kDeg, 4 * 1.4826 * quantile(good_res, 0.5));
+    const double cut = std::max(p.aolp_min_deg * kDeg, 4 * 1.4826 * quantile(std::move(good_res), 0.5));
     for (const auto& [i, r] : res)
       if (r > cut) mark[i] |= SkyJudgments::kAolp;
   });

@@ -241,23 +241,29 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
   Eigen::Vector3d s;
   Eigen::Vector3d lambda;
   for (int round = 0; round < (robust ? 3 : 1); ++round) {
-    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    // c = Σ w·e·eᵀ, entry by entry as Eigen's `c += w * e * e.transpose()` adds ((w·e_i)·e_j to
+    // c(i, j), in order), in locals: Eigen kept c in memory, where each sum waited on the last.
+    double c00 = 0, c10 = 0, c20 = 0, c01 = 0, c11 = 0, c21 = 0, c02 = 0, c12 = 0, c22 = 0;
     int used = 0;
     for (std::size_t k = 0; k < at.size(); ++k)
       if (use[k]) {
-        c += w_at(k) * e_at(k) * e_at(k).transpose();
+        const Eigen::Vector3d& e = e_at(k);
+        const double w = w_at(k), we0 = w * e(0), we1 = w * e(1), we2 = w * e(2);
+        c00 += we0 * e(0), c10 += we1 * e(0), c20 += we2 * e(0);
+        c01 += we0 * e(1), c11 += we1 * e(1), c21 += we2 * e(1);
+        c02 += we0 * e(2), c12 += we1 * e(2), c22 += we2 * e(2);
         ++used;
       }
     if (used < 10) return std::nullopt;
+    Eigen::Matrix3d c;
+    c << c00, c01, c02, c10, c11, c12, c20, c21, c22;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(c);
     s = eig.eigenvectors().col(0).normalized();
     lambda = eig.eigenvalues();
     if (round == 2 || !robust) break;
     std::vector<double> r(at.size());
     for (std::size_t k = 0; k < at.size(); ++k) r[k] = std::abs(e_at(k).dot(s));
-    std::vector<double> sorted = r;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double cut = std::max(std::sin(kMinCutDeg * kDeg), 3 * 1.4826 * sorted[sorted.size() / 2]);
+    const double cut = std::max(std::sin(kMinCutDeg * kDeg), 3 * 1.4826 * nth_smallest(r, r.size() / 2));
     for (std::size_t k = 0; k < at.size(); ++k) use[k] = r[k] <= cut ? 1 : 0;
   }
   if ((sky.level_from_camera * s).z() < 0) s = -s;
