@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/global_control.h>
+
 #include "skypole/evaluate.h"
 #include "skypole/run_bare.h"
 #include "skypole/sky_images.h"
@@ -162,4 +164,30 @@ TEST_CASE("a jackknife's view of a stack prepared once answers as its copy does,
       CHECK(cached == plain);
     }
   }
+}
+
+// The jackknives' sub-runs run in parallel (uncertainty.cpp group_jackknife); an answer must not
+// depend on how many threads ran them.
+TEST_CASE("an answer and its uncertainty are the same on one thread as on many", "[skypole][uncertainty][stack_sky]") {
+  const stack::Stack stack = awkward_day();
+  skypole::InputOptions input;
+  input.calibrated = false;  // the raw jackknives: the most digits to differ in
+  std::vector<skypole::PoleEstimate> many, one;
+  for (const std::string& m : skypole::method_names()) many.push_back(skypole::run_method(stack, m, input));
+  {
+    const tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    for (const std::string& m : skypole::method_names()) one.push_back(skypole::run_method(stack, m, input));
+  }
+  int valid = 0;
+  for (std::size_t i = 0; i < many.size(); ++i) {
+    require_same_answer(many[i], one[i]);
+    REQUIRE(many[i].jackknife_frames_rad2 == one[i].jackknife_frames_rad2);
+    REQUIRE(many[i].jackknife_sectors_rad2 == one[i].jackknife_sectors_rad2);
+    REQUIRE(many[i].sigma_bearing_deg == one[i].sigma_bearing_deg);
+    REQUIRE(many[i].sigma_latitude_deg == one[i].sigma_latitude_deg);
+    REQUIRE(many[i].cone95_deg == one[i].cone95_deg);
+    REQUIRE(many[i].model_misfit == one[i].model_misfit);
+    valid += many[i].valid ? 1 : 0;
+  }
+  CHECK(valid >= 4);
 }
