@@ -15,7 +15,7 @@ namespace skypol::skypole {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kMinDolpForAolp = 0.05;  // below, the AoLP is mostly noise
+constexpr double kMinDolpForAolp = kMaskMinDolp;  // below, the AoLP is mostly noise
 
 const std::vector<float>* channel(const stack::Frame& f, const std::string& name) {
   const auto it = f.channels.find(name);
@@ -38,7 +38,8 @@ std::pair<bool, bool> aolp_and_s0(const SkyImages& sky, const FrameRefs& frames)
 }
 
 SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const camera::Camera& camera,
-                       const SkyMaskParams& p, const std::vector<const FrameEVectors*>* e_vectors) {
+                       const SkyMaskParams& p, const std::vector<const FrameEVectors*>* e_vectors,
+                       const std::vector<std::optional<Eigen::Vector3d>>* aolp_suns) {
   SkyJudgments out;
   const std::size_t n = sky.pixels(), count = frames.size();
   out.suns.assign(count, std::nullopt);
@@ -53,7 +54,9 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
   std::vector<std::optional<Eigen::Vector3d>> starts;
   if (!have_aolp) starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t f) {
-    if (have_aolp)
+    if (have_aolp && aolp_suns)
+      out.suns[f] = (*aolp_suns)[f];
+    else if (have_aolp)
       out.suns[f] = cached(f) ? sun_from_aolp(sky, sky.dolp[f], *cached(f), kMinDolpForAolp)
                               : sun_from_aolp(sky, sky.dolp[f], frames[f]->channels.at(aolp_name), camera,
                                               kMinDolpForAolp);

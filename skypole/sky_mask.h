@@ -60,10 +60,14 @@ struct SkyJudgments {
 };
 // `frames` are the frames of `sky` (sky.dolp[f] is frames[f]'s). e_vectors (optional, one per
 // frame, nullptr: computed here): each frame's E-vectors (e_vectors.h) of a sky whose valid pixels
-// include sky's, at a min_dolp of at most 0.05.
+// include sky's, at a min_dolp of at most 0.05. aolp_suns (optional, when the frames have AoLP):
+// each frame's sun_from_aolp on `sky` at DoLP ≥ 0.05, already fitted (stack_sky.h).
 SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const camera::Camera& camera,
                        const SkyMaskParams& p = {},
-                       const std::vector<const FrameEVectors*>* e_vectors = nullptr);
+                       const std::vector<const FrameEVectors*>* e_vectors = nullptr,
+                       const std::vector<std::optional<Eigen::Vector3d>>* aolp_suns = nullptr);
+// The AoLP and DoLP thresholds the judgments fit and read E-vectors at.
+inline constexpr double kMaskMinDolp = 0.05;
 // Whether `frames` all have the AoLP and the S0 channel of `sky`'s band: what judge_sky reads.
 std::pair<bool, bool> aolp_and_s0(const SkyImages& sky, const FrameRefs& frames);
 

@@ -2,12 +2,14 @@
 #include "skypole/stack_sky.h"
 
 #include <algorithm>
+#include <deque>
 #include <stdexcept>
 #include <utility>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "skypole/sun_vector.h"
 #include "skypole/uncertainty.h"
 
 namespace skypol::skypole {
@@ -67,12 +69,72 @@ const SkyJudgments& StackSky::judgments() const {
     // Isolated: a thread that waits here for its loops must not take up another view's work, which
     // may wait on this same once_flag.
     tbb::this_task_arena::isolate([&] {
-      std::vector<const FrameEVectors*> ev(stack_.frames.size());
-      tbb::parallel_for(std::size_t{0}, ev.size(), [&](std::size_t f) { ev[f] = e_vectors(f); });
-      judgments_.emplace(judge_sky(*sky_, all_frames(stack_), *stack_.camera, SkyMaskParams{}, &ev));
+      const SkyView view(*this);
+      const std::vector<const FrameEVectors*> ev = view.e_vectors(*sky_);
+      const FrameRefs frames = all_frames(stack_);
+      const auto suns = aolp_and_s0(*sky_, frames).first ? view.aolp_suns(*sky_, ev, kMaskMinDolp, true)
+                                                          : std::vector<std::optional<Eigen::Vector3d>>{};
+      judgments_.emplace(
+          judge_sky(*sky_, frames, *stack_.camera, SkyMaskParams{}, &ev, suns.empty() ? nullptr : &suns));
     });
   });
   return *judgments_;
+}
+
+// The fits made on one set of valid pixels: per (min_dolp, robust), per stack frame, once.
+class StackSky::FitsOn {
+ public:
+  FitsOn(std::vector<std::uint8_t> valid_pixels, std::uint64_t key, std::size_t frames)
+      : valid(std::move(valid_pixels)), hash(key), frames_(frames) {}
+  const std::vector<std::uint8_t> valid;
+  const std::uint64_t hash;
+
+  struct Fit {
+    std::once_flag once;
+    std::optional<Eigen::Vector3d> sun;
+    double quality = 1.0;
+  };
+  Fit& fit(double min_dolp, bool robust, std::size_t f) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (Kind& k : kinds_)
+      if (k.min_dolp == min_dolp && k.robust == robust) return k.fits[f];
+    kinds_.push_back({min_dolp, robust, std::make_unique<Fit[]>(frames_)});
+    return kinds_.back().fits[f];
+  }
+
+ private:
+  struct Kind {
+    double min_dolp;
+    bool robust;
+    std::unique_ptr<Fit[]> fits;
+  };
+  std::size_t frames_;
+  mutable std::mutex mutex_;
+  mutable std::deque<Kind> kinds_;
+};
+
+StackSky::~StackSky() = default;
+
+const StackSky::FitsOn& StackSky::fits_on(const SkyImages& sky) const {
+  std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the valid pixels' indices' bytes
+  for (std::size_t i = 0; i < sky.valid.size(); ++i)
+    if (sky.valid[i]) hash = (hash ^ i) * 1099511628211ull;
+  const std::lock_guard<std::mutex> lock(fits_mutex_);
+  for (const auto& f : fits_)
+    if (f->hash == hash && f->valid == sky.valid) return *f;
+  fits_.push_back(std::make_unique<FitsOn>(sky.valid, hash, stack_.frames.size()));
+  return *fits_.back();
+}
+
+std::optional<Eigen::Vector3d> StackSky::aolp_sun(const FitsOn& on, const SkyImages& sky, std::size_t t,
+                                                  std::size_t f, double min_dolp, bool robust,
+                                                  double* quality) const {
+  FitsOn::Fit& fit = on.fit(min_dolp, robust, f);
+  std::call_once(fit.once, [&] {
+    fit.sun = sun_from_aolp(sky, sky.dolp[t], *e_vectors(f), min_dolp, &fit.quality, robust);
+  });
+  if (quality) *quality = fit.quality;
+  return fit.sun;
 }
 
 SkyView::SkyView(const StackSky& whole) : SkyView(whole, {}, {}) {}
@@ -136,7 +198,35 @@ SkyMask SkyView::sky_mask(const SkyImages& prepared, const SkyMaskParams& p) con
       return mask_from_judgments(*whole, j, p, keep_.empty() ? nullptr : &keep_);
   }
   const std::vector<const FrameEVectors*> ev = e_vectors(prepared);
-  return mask_from_judgments(prepared, judge_sky(prepared, frames_, *stack().camera, p, &ev), p);
+  const auto suns = aolp_and_s0(prepared, frames_).first ? aolp_suns(prepared, ev, kMaskMinDolp, true)
+                                                         : std::vector<std::optional<Eigen::Vector3d>>{};
+  return mask_from_judgments(
+      prepared, judge_sky(prepared, frames_, *stack().camera, p, &ev, suns.empty() ? nullptr : &suns), p);
+}
+
+std::vector<std::optional<Eigen::Vector3d>> SkyView::aolp_suns(const SkyImages& sky,
+                                                               const std::vector<const FrameEVectors*>& ev,
+                                                               double min_dolp, bool robust,
+                                                               std::vector<double>* quality) const {
+  std::vector<std::optional<Eigen::Vector3d>> suns(frames_.size());
+  std::vector<double> q(frames_.size(), 1.0);
+  bool cached = true;
+  for (const FrameEVectors* e : ev) cached = cached && e && min_dolp >= e->min_dolp;
+  const auto aolp = [&](std::size_t t) -> const std::vector<float>* {
+    const auto it = frames_[t]->channels.find("AoLP." + sky.band);
+    return it == frames_[t]->channels.end() || it->second.size() != sky.pixels() ? nullptr : &it->second;
+  };
+  const StackSky::FitsOn* on = cached ? &source_->fits_on(sky) : nullptr;
+  tbb::parallel_for(std::size_t{0}, frames_.size(), [&](std::size_t t) {
+    if (on)
+      suns[t] = source_->aolp_sun(*on, sky, t, index_[t], min_dolp, robust, &q[t]);
+    else if (ev[t] && min_dolp >= ev[t]->min_dolp)
+      suns[t] = sun_from_aolp(sky, sky.dolp[t], *ev[t], min_dolp, &q[t], robust);
+    else if (const std::vector<float>* a = aolp(t))
+      suns[t] = sun_from_aolp(sky, sky.dolp[t], *a, *stack().camera, min_dolp, &q[t], robust);
+  });
+  if (quality) *quality = std::move(q);
+  return suns;
 }
 
 std::vector<const FrameEVectors*> SkyView::e_vectors(const SkyImages& prepared) const {

@@ -38,6 +38,7 @@ class StackSky {
  public:
   // `stack` must outlive this.
   StackSky(const stack::Stack& stack, const InputOptions& input);
+  ~StackSky();
   StackSky(const StackSky&) = delete;
   StackSky& operator=(const StackSky&) = delete;
 
@@ -55,7 +56,19 @@ class StackSky {
   // Stack frame f's E-vectors on sky() at DoLP ≥ kEVectorMinDolp (nullptr when the frame has no AoLP
   // channel of the band), once. Needs sky_if_prepared().
   const FrameEVectors* e_vectors(std::size_t f) const;
-  static constexpr double kEVectorMinDolp = 0.05;  // the sky mask's and sun_vector's threshold
+  static constexpr double kEVectorMinDolp = kMaskMinDolp;  // the sky mask's and sun_vector's threshold
+
+  // sun_from_aolp(sky, sky.dolp[t], *e_vectors(f), min_dolp, quality, robust) of stack frame f (the
+  // sky's frame t), made once per set of valid pixels: a fit depends on the frame and on which
+  // pixels it reads, and views repeat the same (a frame subset whose mask is the whole stack's reads
+  // the whole stack's masked sky; auto's sun_vector and sun_vector_ephemeris read the same views; a
+  // clear sector's mask leaves the sky its judgments were fitted on). `sky`'s valid pixels must be
+  // among sky()'s and e_vectors(f) not nullptr. The key of a sky (its valid pixels) is found once
+  // per sky: fits_on(sky).
+  class FitsOn;
+  const FitsOn& fits_on(const SkyImages& sky) const;
+  std::optional<Eigen::Vector3d> aolp_sun(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
+                                          double min_dolp, bool robust, double* quality) const;
 
  private:
   const stack::Stack& stack_;
@@ -66,6 +79,8 @@ class StackSky {
   mutable std::optional<SkyJudgments> judgments_;
   mutable std::unique_ptr<std::once_flag[]> e_once_;
   mutable std::vector<std::optional<FrameEVectors>> e_vectors_;
+  mutable std::mutex fits_mutex_;
+  mutable std::vector<std::unique_ptr<FitsOn>> fits_;  // one per set of valid pixels seen
 };
 
 // One run's view of a StackSky: the whole stack, the frames a frame jackknife keeps, or the stack
@@ -94,6 +109,12 @@ class SkyView {
   // Each view frame's cached E-vectors, usable on `prepared` and any of its masks; nullptr where
   // there are none (no AoLP channel, or `prepared` has pixels the whole stack's sky lacks).
   std::vector<const FrameEVectors*> e_vectors(const SkyImages& prepared) const;
+  // Each view frame's sun_from_aolp on `sky` (the prepared sky or a mask of it) with `ev` (e_vectors
+  // of the prepared sky): from the whole stack's fits (StackSky::aolp_sun) where ev has them.
+  // quality (optional) receives each fit's quality, 1 where it found no sun.
+  std::vector<std::optional<Eigen::Vector3d>> aolp_suns(const SkyImages& sky, const std::vector<const FrameEVectors*>& ev,
+                                                        double min_dolp, bool robust,
+                                                        std::vector<double>* quality = nullptr) const;
 
  private:
   SkyView(const StackSky& whole, std::vector<std::uint8_t> keep, std::vector<std::uint8_t> left_out);

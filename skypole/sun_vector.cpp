@@ -334,7 +334,6 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
   const char* method = "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
   const FrameRefs& frames = view.frames();
-  const camera::Camera& camera = *view.stack().camera;
   SkyImages sky = view.prepared(min_frames, method);
   // The frames' E-vectors, computed once for the whole stack (usable on this sky and its mask).
   const std::vector<const FrameEVectors*> e_vectors =
@@ -344,8 +343,9 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
     fits = fit_rayleigh_law(sky, view, params.input.sky_mask, params.model_misfit);
   else if (params.input.sky_mask)
     apply_mask(sky, view.sky_mask(sky));
-  const auto aolp = params.source == SunSource::aolp ? aolp_channels(frames, sky, method)
-                                                     : std::vector<const std::vector<float>*>{};
+  // The AoLP channels are read where the fits are (StackSky, SkyView::aolp_suns); here a frame
+  // without one is named.
+  if (params.source == SunSource::aolp) (void)aolp_channels(frames, sky, method);
   SunVectorResult result;
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -360,17 +360,8 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
   std::vector<std::optional<Eigen::Vector3d>> suns = fits.suns;
   std::vector<double> quality = fits.rms;
   const std::vector<double>& misfit = fits.misfit;
-  if (params.source == SunSource::aolp) {
-    suns.resize(sky.frames());
-    quality.assign(sky.frames(), 1.0);
-    tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
-      const FrameEVectors* ev = e_vectors[t];
-      suns[t] = ev && params.min_dolp >= ev->min_dolp
-                    ? sun_from_aolp(sky, sky.dolp[t], *ev, params.min_dolp, &quality[t], params.input.sky_mask)
-                    : sun_from_aolp(sky, sky.dolp[t], *aolp[t], camera, params.min_dolp, &quality[t],
-                                    params.input.sky_mask);
-    });
-  }
+  if (params.source == SunSource::aolp)
+    suns = view.aolp_suns(sky, e_vectors, params.min_dolp, params.input.sky_mask, &quality);
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     if (!suns[t]) {
       if (params.source == SunSource::aolp)
