@@ -362,7 +362,7 @@ GreatCirclePairs great_circle_pairs(const SkyView& view, const GreatCircleParams
   const SkyImages& sky = out.sky;
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
-  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
+  const std::vector<std::vector<float>> filtered = view.filtered(sky, radius);
 
   // Sample pixels for the radial/plane decision.
   std::vector<std::size_t> samples;

@@ -146,7 +146,7 @@ InvarianceResult estimate_invariance(const SkyView& view, const InvarianceParams
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
   const double fit_radius = params.fit_radius_px.value_or(
       std::max(3.0, 0.01 * std::min(sky.width, sky.height)));
-  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
+  const std::vector<std::vector<float>> filtered = view.filtered(sky, radius);
 
   InvarianceResult result;
   const double span_h = (sky.times_s.back() - sky.times_s.front()) / 3600.0;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <map>
 #include <stdexcept>
 #include <utility>
 
@@ -102,6 +103,29 @@ class StackSky::FitsOn {
     return kinds_.back().fits[f];
   }
 
+  struct Mask {
+    std::once_flag once;
+    SkyMask mask;
+  };
+  Mask& mask(const std::vector<std::uint8_t>& keep) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& [k, m] : masks_)
+      if (k == keep) return *m;
+    masks_.emplace_back(keep, std::make_unique<Mask>());
+    return *masks_.back().second;
+  }
+
+  struct Filtered {
+    std::once_flag once;
+    std::vector<float> image;
+  };
+  Filtered& filtered(std::size_t f, double radius_px) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    std::unique_ptr<Filtered>& m = filtered_[{f, radius_px}];
+    if (!m) m = std::make_unique<Filtered>();
+    return *m;
+  }
+
  private:
   struct Kind {
     double min_dolp;
@@ -111,6 +135,8 @@ class StackSky::FitsOn {
   std::size_t frames_;
   mutable std::mutex mutex_;
   mutable std::deque<Kind> kinds_;
+  mutable std::vector<std::pair<std::vector<std::uint8_t>, std::unique_ptr<Mask>>> masks_;  // by the frames kept
+  mutable std::map<std::pair<std::size_t, double>, std::unique_ptr<Filtered>> filtered_;
 };
 
 StackSky::~StackSky() = default;
@@ -135,6 +161,29 @@ std::optional<Eigen::Vector3d> StackSky::aolp_sun(const FitsOn& on, const SkyIma
   });
   if (quality) *quality = fit.quality;
   return fit.sun;
+}
+
+SkyMask StackSky::sky_mask(const FitsOn& on, const std::vector<std::uint8_t>& keep,
+                           const std::function<SkyMask()>& make) const {
+  FitsOn::Mask& m = on.mask(keep);
+  std::call_once(m.once, [&] { tbb::this_task_arena::isolate([&] { m.mask = make(); }); });
+  return m.mask;
+}
+
+std::vector<float> StackSky::filtered(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
+                                      double radius_px) const {
+  {
+    const std::lock_guard<std::mutex> lock(fits_mutex_);
+    const std::size_t budget = 2 * stack_.frames.size() * sky.pixels();
+    if (filtered_floats_ + sky.pixels() > budget) return disk_filter(sky.dolp[t], sky, radius_px);
+  }
+  FitsOn::Filtered& m = on.filtered(f, radius_px);
+  std::call_once(m.once, [&] {
+    m.image = disk_filter(sky.dolp[t], sky, radius_px);
+    const std::lock_guard<std::mutex> lock(fits_mutex_);
+    filtered_floats_ += m.image.size();
+  });
+  return m.image;
 }
 
 SkyView::SkyView(const StackSky& whole) : SkyView(whole, {}, {}) {}
@@ -177,13 +226,15 @@ SkyImages SkyView::prepared(std::size_t min_frames, std::string_view method) con
                 left_out_.empty() ? nullptr : &left_out_, min_frames, method);
 }
 
-bool SkyView::within_whole(const SkyImages& prepared) const {
+bool SkyView::within_whole(const SkyImages& sky) const {
   const SkyImages* whole = source_->sky_if_prepared();
   if (!whole) return false;
-  if (keep_.empty()) return true;  // the whole sky, or it without a sector
-  // A frame subset's valid pixels include the whole stack's: the same, unless a dropped frame alone
-  // could not use some.
-  return prepared.valid == whole->valid;
+  if (keep_.empty()) return true;  // the whole sky, or it without a sector (or a mask of these)
+  // A frame subset's prepared sky includes the whole stack's: the same, unless a dropped frame
+  // alone could not use some pixels.
+  for (std::size_t i = 0; i < sky.valid.size(); ++i)
+    if (sky.valid[i] && !whole->valid[i]) return false;
+  return true;
 }
 
 SkyMask SkyView::sky_mask(const SkyImages& prepared, const SkyMaskParams& p) const {
@@ -197,11 +248,27 @@ SkyMask SkyView::sky_mask(const SkyImages& prepared, const SkyMaskParams& p) con
     if (aolp_and_s0(prepared, frames_) == std::pair(j.have_aolp, j.have_s0))
       return mask_from_judgments(*whole, j, p, keep_.empty() ? nullptr : &keep_);
   }
-  const std::vector<const FrameEVectors*> ev = e_vectors(prepared);
-  const auto suns = aolp_and_s0(prepared, frames_).first ? aolp_suns(prepared, ev, kMaskMinDolp, true)
-                                                         : std::vector<std::optional<Eigen::Vector3d>>{};
-  return mask_from_judgments(
-      prepared, judge_sky(prepared, frames_, *stack().camera, p, &ev, suns.empty() ? nullptr : &suns), p);
+  const auto judge = [&] {
+    const std::vector<const FrameEVectors*> ev = e_vectors(prepared);
+    const auto suns = aolp_and_s0(prepared, frames_).first ? aolp_suns(prepared, ev, kMaskMinDolp, true)
+                                                           : std::vector<std::optional<Eigen::Vector3d>>{};
+    return mask_from_judgments(
+        prepared, judge_sky(prepared, frames_, *stack().camera, p, &ev, suns.empty() ? nullptr : &suns), p);
+  };
+  // A view whose sky is the whole stack's or less (a sector left out): its mask is kept, for the
+  // other methods that run the same view (auto's sun_vector, sun_vector_ephemeris, sun_dolp).
+  if (defaults && p.bad_share == SkyMaskParams{}.bad_share && within_whole(prepared))
+    return source_->sky_mask(source_->fits_on(prepared), keep_, judge);
+  return judge();
+}
+
+std::vector<std::vector<float>> SkyView::filtered(const SkyImages& sky, double radius_px) const {
+  std::vector<std::vector<float>> out(frames_.size());
+  const StackSky::FitsOn* on = within_whole(sky) ? &source_->fits_on(sky) : nullptr;
+  tbb::parallel_for(std::size_t{0}, frames_.size(), [&](std::size_t t) {
+    out[t] = on ? source_->filtered(*on, sky, t, index_[t], radius_px) : disk_filter(sky.dolp[t], sky, radius_px);
+  });
+  return out;
 }
 
 std::vector<std::optional<Eigen::Vector3d>> SkyView::aolp_suns(const SkyImages& sky,

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -69,6 +70,14 @@ class StackSky {
   const FitsOn& fits_on(const SkyImages& sky) const;
   std::optional<Eigen::Vector3d> aolp_sun(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
                                           double min_dolp, bool robust, double* quality) const;
+  // Likewise the sky mask judged on `sky` of the stack frames keep[f] = 1 (empty: all), by make()
+  // once; and the disk_filter of stack frame f's DoLP (the sky's frame t) on `sky`, kept while
+  // they hold less than twice the stack's DoLP (a filter memory that the sub-runs of a cloudy
+  // sky, each with a mask of its own, would not repay).
+  SkyMask sky_mask(const FitsOn& on, const std::vector<std::uint8_t>& keep,
+                   const std::function<SkyMask()>& make) const;
+  std::vector<float> filtered(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
+                              double radius_px) const;
 
  private:
   const stack::Stack& stack_;
@@ -81,6 +90,7 @@ class StackSky {
   mutable std::vector<std::optional<FrameEVectors>> e_vectors_;
   mutable std::mutex fits_mutex_;
   mutable std::vector<std::unique_ptr<FitsOn>> fits_;  // one per set of valid pixels seen
+  mutable std::size_t filtered_floats_ = 0;            // held by the filter memo
 };
 
 // One run's view of a StackSky: the whole stack, the frames a frame jackknife keeps, or the stack
@@ -112,14 +122,18 @@ class SkyView {
   // Each view frame's sun_from_aolp on `sky` (the prepared sky or a mask of it) with `ev` (e_vectors
   // of the prepared sky): from the whole stack's fits (StackSky::aolp_sun) where ev has them.
   // quality (optional) receives each fit's quality, 1 where it found no sun.
+  // filter_all(sky, radius_px), likewise from the whole stack's (StackSky::filtered) when `sky`'s
+  // valid pixels are among its own.
+  std::vector<std::vector<float>> filtered(const SkyImages& sky, double radius_px) const;
   std::vector<std::optional<Eigen::Vector3d>> aolp_suns(const SkyImages& sky, const std::vector<const FrameEVectors*>& ev,
                                                         double min_dolp, bool robust,
                                                         std::vector<double>* quality = nullptr) const;
 
  private:
   SkyView(const StackSky& whole, std::vector<std::uint8_t> keep, std::vector<std::uint8_t> left_out);
-  // Whether `prepared`'s valid pixels are among the whole stack's sky's (and it is prepared).
-  bool within_whole(const SkyImages& prepared) const;
+  // Whether the valid pixels of `sky` (this view's prepared sky, or a mask of it) are among the
+  // whole stack's sky's (and that is prepared).
+  bool within_whole(const SkyImages& sky) const;
 
   const StackSky* source_;
   std::vector<std::uint8_t> keep_;      // empty: every frame
