@@ -2,8 +2,6 @@
 #include "skypole/stack_sky.h"
 
 #include <algorithm>
-#include <deque>
-#include <map>
 #include <stdexcept>
 #include <utility>
 
@@ -19,7 +17,8 @@ StackSky::StackSky(const stack::Stack& stack, const InputOptions& input)
     : stack_(stack),
       input_(input),
       e_once_(std::make_unique<std::once_flag[]>(stack.frames.size())),
-      e_vectors_(stack.frames.size()) {}
+      e_vectors_(stack.frames.size()),
+      memo_(stack.frames.size()) {}
 
 const SkyFrames& StackSky::frames(std::size_t min_frames, std::string_view method) const {
   // Read once, under whichever method asks first; a method that cannot use the stack is told in its
@@ -80,110 +79,6 @@ const SkyJudgments& StackSky::judgments() const {
     });
   });
   return *judgments_;
-}
-
-// The fits made on one set of valid pixels: per (min_dolp, robust), per stack frame, once.
-class StackSky::FitsOn {
- public:
-  FitsOn(std::vector<std::uint8_t> valid_pixels, std::uint64_t key, std::size_t frames)
-      : valid(std::move(valid_pixels)), hash(key), frames_(frames) {}
-  const std::vector<std::uint8_t> valid;
-  const std::uint64_t hash;
-
-  struct Fit {
-    std::once_flag once;
-    std::optional<Eigen::Vector3d> sun;
-    double quality = 1.0;
-  };
-  Fit& fit(double min_dolp, bool robust, std::size_t f) const {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    for (Kind& k : kinds_)
-      if (k.min_dolp == min_dolp && k.robust == robust) return k.fits[f];
-    kinds_.push_back({min_dolp, robust, std::make_unique<Fit[]>(frames_)});
-    return kinds_.back().fits[f];
-  }
-
-  struct Mask {
-    std::once_flag once;
-    SkyMask mask;
-  };
-  Mask& mask(const std::vector<std::uint8_t>& keep) const {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    for (auto& [k, m] : masks_)
-      if (k == keep) return *m;
-    masks_.emplace_back(keep, std::make_unique<Mask>());
-    return *masks_.back().second;
-  }
-
-  struct Filtered {
-    std::once_flag once;
-    std::vector<float> image;
-  };
-  Filtered& filtered(std::size_t f, double radius_px) const {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    std::unique_ptr<Filtered>& m = filtered_[{f, radius_px}];
-    if (!m) m = std::make_unique<Filtered>();
-    return *m;
-  }
-
- private:
-  struct Kind {
-    double min_dolp;
-    bool robust;
-    std::unique_ptr<Fit[]> fits;
-  };
-  std::size_t frames_;
-  mutable std::mutex mutex_;
-  mutable std::deque<Kind> kinds_;
-  mutable std::vector<std::pair<std::vector<std::uint8_t>, std::unique_ptr<Mask>>> masks_;  // by the frames kept
-  mutable std::map<std::pair<std::size_t, double>, std::unique_ptr<Filtered>> filtered_;
-};
-
-StackSky::~StackSky() = default;
-
-const StackSky::FitsOn& StackSky::fits_on(const SkyImages& sky) const {
-  std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the valid pixels' indices' bytes
-  for (std::size_t i = 0; i < sky.valid.size(); ++i)
-    if (sky.valid[i]) hash = (hash ^ i) * 1099511628211ull;
-  const std::lock_guard<std::mutex> lock(fits_mutex_);
-  for (const auto& f : fits_)
-    if (f->hash == hash && f->valid == sky.valid) return *f;
-  fits_.push_back(std::make_unique<FitsOn>(sky.valid, hash, stack_.frames.size()));
-  return *fits_.back();
-}
-
-std::optional<Eigen::Vector3d> StackSky::aolp_sun(const FitsOn& on, const SkyImages& sky, std::size_t t,
-                                                  std::size_t f, double min_dolp, bool robust,
-                                                  double* quality) const {
-  FitsOn::Fit& fit = on.fit(min_dolp, robust, f);
-  std::call_once(fit.once, [&] {
-    fit.sun = sun_from_aolp(sky, sky.dolp[t], *e_vectors(f), min_dolp, &fit.quality, robust);
-  });
-  if (quality) *quality = fit.quality;
-  return fit.sun;
-}
-
-SkyMask StackSky::sky_mask(const FitsOn& on, const std::vector<std::uint8_t>& keep,
-                           const std::function<SkyMask()>& make) const {
-  FitsOn::Mask& m = on.mask(keep);
-  std::call_once(m.once, [&] { tbb::this_task_arena::isolate([&] { m.mask = make(); }); });
-  return m.mask;
-}
-
-std::vector<float> StackSky::filtered(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
-                                      double radius_px) const {
-  {
-    const std::lock_guard<std::mutex> lock(fits_mutex_);
-    const std::size_t budget = 2 * stack_.frames.size() * sky.pixels();
-    if (filtered_floats_ + sky.pixels() > budget) return disk_filter(sky.dolp[t], sky, radius_px);
-  }
-  FitsOn::Filtered& m = on.filtered(f, radius_px);
-  std::call_once(m.once, [&] {
-    m.image = disk_filter(sky.dolp[t], sky, radius_px);
-    const std::lock_guard<std::mutex> lock(fits_mutex_);
-    filtered_floats_ += m.image.size();
-  });
-  return m.image;
 }
 
 SkyView::SkyView(const StackSky& whole) : SkyView(whole, {}, {}) {}
@@ -258,15 +153,15 @@ SkyMask SkyView::sky_mask(const SkyImages& prepared, const SkyMaskParams& p) con
   // A view whose sky is the whole stack's or less (a sector left out): its mask is kept, for the
   // other methods that run the same view (auto's sun_vector, sun_vector_ephemeris, sun_dolp).
   if (defaults && p.bad_share == SkyMaskParams{}.bad_share && within_whole(prepared))
-    return source_->sky_mask(source_->fits_on(prepared), keep_, judge);
+    return source_->memo().sky_mask(source_->memo().on(prepared), keep_, judge);
   return judge();
 }
 
 std::vector<std::vector<float>> SkyView::filtered(const SkyImages& sky, double radius_px) const {
   std::vector<std::vector<float>> out(frames_.size());
-  const StackSky::FitsOn* on = within_whole(sky) ? &source_->fits_on(sky) : nullptr;
+  const SkyMemo::Entry* on = within_whole(sky) ? &source_->memo().on(sky) : nullptr;
   tbb::parallel_for(std::size_t{0}, frames_.size(), [&](std::size_t t) {
-    out[t] = on ? source_->filtered(*on, sky, t, index_[t], radius_px) : disk_filter(sky.dolp[t], sky, radius_px);
+    out[t] = on ? source_->memo().filtered(*on, sky, t, index_[t], radius_px) : disk_filter(sky.dolp[t], sky, radius_px);
   });
   return out;
 }
@@ -283,10 +178,10 @@ std::vector<std::optional<Eigen::Vector3d>> SkyView::aolp_suns(const SkyImages& 
     const auto it = frames_[t]->channels.find("AoLP." + sky.band);
     return it == frames_[t]->channels.end() || it->second.size() != sky.pixels() ? nullptr : &it->second;
   };
-  const StackSky::FitsOn* on = cached ? &source_->fits_on(sky) : nullptr;
+  const SkyMemo::Entry* on = cached ? &source_->memo().on(sky) : nullptr;
   tbb::parallel_for(std::size_t{0}, frames_.size(), [&](std::size_t t) {
     if (on)
-      suns[t] = source_->aolp_sun(*on, sky, t, index_[t], min_dolp, robust, &q[t]);
+      suns[t] = source_->memo().aolp_sun(*on, sky, t, index_[t], *ev[t], min_dolp, robust, &q[t]);
     else if (ev[t] && min_dolp >= ev[t]->min_dolp)
       suns[t] = sun_from_aolp(sky, sky.dolp[t], *ev[t], min_dolp, &q[t], robust);
     else if (const std::vector<float>* a = aolp(t))

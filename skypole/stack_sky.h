@@ -12,7 +12,8 @@
 // sun fits read the cached E-vectors. What genuinely depends on the subset is recomputed: the sun
 // fits on its own masked sky, and the judgments of a sky without a sector (their suns are fitted on
 // it) or of frames whose usable pixels differ. A view's answers are bit-identical to the runs on the
-// copies (tests/skypole/stack_sky_test.cpp).
+// copies (tests/skypole/stack_sky_test.cpp). What views repeat of each other (a fit, a mask, a
+// filter on the same valid pixels) is made once too (sky_memo.h).
 //
 // Thread-safe: views of one StackSky may run in parallel (each cached part is made once).
 #pragma once
@@ -32,6 +33,7 @@
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
 #include "skypole/sky_mask.h"
+#include "skypole/sky_memo.h"
 
 namespace skypol::skypole {
 
@@ -39,7 +41,6 @@ class StackSky {
  public:
   // `stack` must outlive this.
   StackSky(const stack::Stack& stack, const InputOptions& input);
-  ~StackSky();
   StackSky(const StackSky&) = delete;
   StackSky& operator=(const StackSky&) = delete;
 
@@ -59,25 +60,8 @@ class StackSky {
   const FrameEVectors* e_vectors(std::size_t f) const;
   static constexpr double kEVectorMinDolp = kMaskMinDolp;  // the sky mask's and sun_vector's threshold
 
-  // sun_from_aolp(sky, sky.dolp[t], *e_vectors(f), min_dolp, quality, robust) of stack frame f (the
-  // sky's frame t), made once per set of valid pixels: a fit depends on the frame and on which
-  // pixels it reads, and views repeat the same (a frame subset whose mask is the whole stack's reads
-  // the whole stack's masked sky; auto's sun_vector and sun_vector_ephemeris read the same views; a
-  // clear sector's mask leaves the sky its judgments were fitted on). `sky`'s valid pixels must be
-  // among sky()'s and e_vectors(f) not nullptr. The key of a sky (its valid pixels) is found once
-  // per sky: fits_on(sky).
-  class FitsOn;
-  const FitsOn& fits_on(const SkyImages& sky) const;
-  std::optional<Eigen::Vector3d> aolp_sun(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
-                                          double min_dolp, bool robust, double* quality) const;
-  // Likewise the sky mask judged on `sky` of the stack frames keep[f] = 1 (empty: all), by make()
-  // once; and the disk_filter of stack frame f's DoLP (the sky's frame t) on `sky`, kept while
-  // they hold less than twice the stack's DoLP (a filter memory that the sub-runs of a cloudy
-  // sky, each with a mask of its own, would not repay).
-  SkyMask sky_mask(const FitsOn& on, const std::vector<std::uint8_t>& keep,
-                   const std::function<SkyMask()>& make) const;
-  std::vector<float> filtered(const FitsOn& on, const SkyImages& sky, std::size_t t, std::size_t f,
-                              double radius_px) const;
+  // The work made once per set of valid pixels (sky_memo.h): fits, masks, filters.
+  const SkyMemo& memo() const { return memo_; }
 
  private:
   const stack::Stack& stack_;
@@ -88,9 +72,7 @@ class StackSky {
   mutable std::optional<SkyJudgments> judgments_;
   mutable std::unique_ptr<std::once_flag[]> e_once_;
   mutable std::vector<std::optional<FrameEVectors>> e_vectors_;
-  mutable std::mutex fits_mutex_;
-  mutable std::vector<std::unique_ptr<FitsOn>> fits_;  // one per set of valid pixels seen
-  mutable std::size_t filtered_floats_ = 0;            // held by the filter memo
+  SkyMemo memo_;
 };
 
 // One run's view of a StackSky: the whole stack, the frames a frame jackknife keeps, or the stack
@@ -120,14 +102,13 @@ class SkyView {
   // there are none (no AoLP channel, or `prepared` has pixels the whole stack's sky lacks).
   std::vector<const FrameEVectors*> e_vectors(const SkyImages& prepared) const;
   // Each view frame's sun_from_aolp on `sky` (the prepared sky or a mask of it) with `ev` (e_vectors
-  // of the prepared sky): from the whole stack's fits (StackSky::aolp_sun) where ev has them.
-  // quality (optional) receives each fit's quality, 1 where it found no sun.
-  // filter_all(sky, radius_px), likewise from the whole stack's (StackSky::filtered) when `sky`'s
-  // valid pixels are among its own.
-  std::vector<std::vector<float>> filtered(const SkyImages& sky, double radius_px) const;
+  // of the prepared sky), from the memo (sky_memo.h) where ev has them. quality (optional)
+  // receives each fit's quality, 1 where it found no sun.
   std::vector<std::optional<Eigen::Vector3d>> aolp_suns(const SkyImages& sky, const std::vector<const FrameEVectors*>& ev,
                                                         double min_dolp, bool robust,
                                                         std::vector<double>* quality = nullptr) const;
+  // filter_all(sky, radius_px), from the memo when `sky`'s valid pixels are among the whole stack's.
+  std::vector<std::vector<float>> filtered(const SkyImages& sky, double radius_px) const;
 
  private:
   SkyView(const StackSky& whole, std::vector<std::uint8_t> keep, std::vector<std::uint8_t> left_out);
