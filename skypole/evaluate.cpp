@@ -15,7 +15,9 @@
 #include "skypole/cloud_share.h"
 #include "skypole/great_circle.h"
 #include "skypole/invariance.h"
+#include "skypole/run_bare.h"
 #include "skypole/sky_images.h"
+#include "skypole/stack_sky.h"
 #include "skypole/sun_vector.h"
 #include "skypole/uncertainty.h"
 
@@ -52,43 +54,6 @@ const std::vector<std::string>& method_names() {
 }
 
 namespace {
-
-// The method alone, without an uncertainty: what the jackknife re-runs.
-PoleEstimate run_bare(const stack::Stack& stack, std::string_view method, const InputOptions& input) {
-  if (method == "classic") {
-    ClassicParams p;
-    p.input = input;
-    return estimate_classic(stack, p).estimate;
-  }
-  if (method == "great_circle") {
-    GreatCircleParams p;
-    p.input = input;
-    return estimate_great_circle(stack, p).estimate;
-  }
-  if (method == "invariance") {
-    InvarianceParams p;
-    p.input = input;
-    return estimate_invariance(stack, p).estimate;
-  }
-  if (method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp") {
-    if (method == "sun_vector_ephemeris" && !stack.site_known) {
-      // An imported capture without [site]: the ephemeris has nothing to be computed for.
-      throw std::invalid_argument("sun_vector_ephemeris needs the site, and this capture's is unknown "
-                                  "(give [site] when importing)");
-    }
-    SunVectorParams p;
-    p.input = input;
-    p.mode = method == "sun_vector_ephemeris" ? PoleFromSun::ephemeris : PoleFromSun::circle;
-    p.source = method == "sun_dolp" ? SunSource::dolp : SunSource::aolp;
-    PoleEstimate e = estimate_sun_vector(stack, p).estimate;
-    e.method = std::string(method);
-    return e;
-  }
-  std::string legal;
-  for (const auto& n : method_names()) legal += (legal.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown estimator \"" + std::string(method) +
-                              "\" (expected one of " + legal + ")");
-}
 
 // The sector jackknife's sectors (uncertainty.h): six, each a sixth of the image about the
 // principal point.
@@ -222,13 +187,28 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
 
 namespace {
 
+// What the methods of one stack share, made once: its prepared sky, mask judgments and E-vectors
+// (stack_sky.h, read by every method and its jackknives' sub-runs), and the measures of the sky the
+// calibration reads (the Rayleigh-law misfit, the unreadable shares), which auto's methods would
+// each measure again.
+struct SharedWork {
+  SharedWork(const stack::Stack& stack, const InputOptions& input) : whole(stack, input) {}
+  StackSky whole;
+  std::optional<double> misfit;         // rayleigh_law_misfit of the whole stack
+  std::optional<UnreadableSky> unread;  // unreadable_sky of its sky
+};
+
+// run_method of one method on `work`'s stack.
+PoleEstimate run_with(SharedWork& work, std::string_view method, ClassicImages* classic_images);
+
 PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
   std::vector<PoleEstimate> all;
+  SharedWork work(stack, input);
   for (const std::string& m : method_names()) {
     if (!used_by_auto(m, stack.site_known)) continue;
     PoleEstimate e;
     try {
-      e = run_method(stack, m, input);
+      e = run_with(work, m, nullptr);
     } catch (const std::invalid_argument& err) {
       e = PoleEstimate{};
       e.method = m;
@@ -292,8 +272,10 @@ namespace {
 // The calibration's gates (method_calibrations()): decline, with the numbers, where the study
 // found the method's error unpredictable. `unread` receives the sky's unpolarized and clipped
 // shares when a gate measured them, so that run_method's σ terms do not prepare the same images again.
-void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack, const InputOptions& input,
+void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& whole,
                  std::optional<UnreadableSky>& unread) {
+  const stack::Stack& stack = whole.stack();
+  const InputOptions& input = whole.input();
   if (!e.valid || !input.calibrated) return;
   char buf[640];
   if (e.residual_deg > c.max_residual_deg) {
@@ -328,11 +310,7 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
   }
   // The sky images the sky-shape gates read, and the shares of it that no method reads, each
   // measured once and only if a gate needs it.
-  std::optional<SkyImages> images;
-  const auto sky_images = [&]() -> const SkyImages& {
-    if (!images) images = prepare_sky_images(stack, input, 1, e.method);
-    return *images;
-  };
+  const auto sky_images = [&]() -> const SkyImages& { return whole.sky(1, e.method); };
   const auto unreadable = [&]() -> const UnreadableSky& {
     if (!unread) unread = unreadable_sky(sky_images());
     return *unread;
@@ -396,12 +374,16 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack
 void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const stack::Stack& stack,
                              const InputOptions& input) {
   std::optional<UnreadableSky> unread;
-  apply_gates(e, c, stack, input, unread);
+  const StackSky whole(stack, input);
+  apply_gates(e, c, whole, unread);
 }
 
-PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
-                        const InputOptions& input, ClassicImages* classic_images) {
-  if (method == "auto") return run_auto(stack, input);
+namespace {
+
+PoleEstimate run_with(SharedWork& work, std::string_view method, ClassicImages* classic_images) {
+  const StackSky& whole = work.whole;
+  const stack::Stack& stack = whole.stack();
+  const InputOptions& input = whole.input();
   const auto t0 = std::chrono::steady_clock::now();
   // great_circle's circles are computed once; its jackknife refits only the pole from them.
   std::optional<GreatCirclePairs> gc;
@@ -421,14 +403,14 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   PoleEstimate e;
   if (method == "great_circle") {
     gc_params.sectors = kSkySectors;  // its sector jackknife refits the kept crossings
-    gc = great_circle_pairs(stack, gc_params);
+    gc = great_circle_pairs(SkyView(whole), gc_params);
     e = great_circle_pole(*gc, gc_params).estimate;
     without_sector = [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; };
   } else if (method == "invariance") {
     InvarianceParams p;
     p.input = input;
     p.sectors = kSkySectors;  // its sector jackknife refits its own window without each sector
-    InvarianceResult r = estimate_invariance(stack, p);
+    InvarianceResult r = estimate_invariance(SkyView(whole), p);
     e = r.estimate;
     inv_without_sector = std::move(r.without_sector);
     sectors = !inv_without_sector.empty();  // the per-frame refinement (frames without times) has none
@@ -440,7 +422,7 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     cl_params.keep_intermediates = false;
     e = r.estimate;
   } else {
-    e = run_bare(stack, method, input);
+    e = run_bare(SkyView(whole), method);
   }
   if (!e.valid) return e;
   // great_circle's great circles need DoLP to be a function of the angle to the sun alone, which a
@@ -453,13 +435,15 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   // images find where DoLP stays constant, which is the pole only for a sky whose DoLP is a function
   // of the angle to the sun (held-out seed 21: 23° off at 25σ on a clear vrte sky; the shipped vrte
   // scene at binning 8: 21° off in bearing inside a 5° cone). Measured for their gates and σ terms.
-  if (method == "great_circle" || method == "sun_vector" || method == "invariance" || method == "classic")
-    e.model_misfit = rayleigh_law_misfit(stack, input);
+  if (method == "great_circle" || method == "sun_vector" || method == "invariance" || method == "classic") {
+    if (!work.misfit) work.misfit = rayleigh_law_misfit(SkyView(whole));
+    e.model_misfit = *work.misfit;
+  }
   MethodCalibration cal;
   for (const MethodCalibration& c : method_calibrations())
     if (c.method == method) cal = c;
-  std::optional<UnreadableSky> unread;  // the sky's unpolarized and clipped shares, once measured
-  apply_gates(e, cal, stack, input, unread);
+  std::optional<UnreadableSky>& unread = work.unread;  // the sky's unpolarized and clipped shares, once measured
+  apply_gates(e, cal, whole, unread);
   if (!e.valid) return e;
   std::optional<Eigen::Matrix2d> frames;
   const int frame_count = static_cast<int>(stack.frames.size());
@@ -474,7 +458,7 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     }, max_groups);
   } else {
     frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
-      return run_bare(frames_kept(stack, keep), method, input);
+      return run_bare(SkyView::kept(whole, keep), method);
     }, max_groups);
   }
   if (!frames) return e;
@@ -485,11 +469,11 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     // Sectors about the principal point, so that each holds a sixth of the sky (invariance: about
     // its pole, within the window it reads).
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
-    const auto s = without_sector
-                       ? sector_jackknife(e, kSkySectors, without_sector)
-                       : sector_jackknife(
-                             e, stack, [&](const stack::Stack& sub) { return run_bare(sub, method, input); },
-                             Eigen::Vector2d(k.cx, k.cy), kSkySectors);
+    if (!without_sector)
+      without_sector = [&](int g) {
+        return run_bare(SkyView::without_sector(whole, Eigen::Vector2d(k.cx, k.cy), g, kSkySectors), method);
+      };
+    const auto s = sector_jackknife(e, kSkySectors, without_sector);
     if (!s) return e;
     jack.sectors = *s;
     jack.sector_groups = kSkySectors;
@@ -501,7 +485,7 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
     const double residual_excess =
         std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
     if ((cal.unpolarized_deg > 0 || cal.sector_unpolarized > 0 || cal.sector_clipped > 0) && !unread)
-      unread = unreadable_sky(prepare_sky_images(stack, input, 1, e.method));
+      unread = unreadable_sky(whole.sky(1, e.method));
     const double unpolarized = unread ? unread->unpolarized : 0.0;
     const double clipped = unread ? unread->clipped : 0.0;
     const double floor = std::sqrt(cal.floor_deg * cal.floor_deg + std::pow(cal.residual_share * residual_excess, 2) +
@@ -519,6 +503,15 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   apply_uncertainty_bound(e, input.max_uncertainty_deg);
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return e;
+}
+
+}  // namespace
+
+PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
+                        const InputOptions& input, ClassicImages* classic_images) {
+  if (method == "auto") return run_auto(stack, input);
+  SharedWork work(stack, input);
+  return run_with(work, method, classic_images);
 }
 
 Stats summarize_values(std::vector<double> v) {

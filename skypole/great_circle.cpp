@@ -14,6 +14,7 @@
 
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
+#include "skypole/stack_sky.h"
 #include "skypole/uncertainty.h"
 
 namespace skypol::skypole {
@@ -343,6 +344,11 @@ DriftModel parse_drift_model(std::string_view name) {
 std::string_view drift_model_name(DriftModel m) { return enum_name(kDriftModelNames, m); }
 
 GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircleParams& params) {
+  const StackSky whole(stack, params.input);
+  return great_circle_pairs(SkyView(whole), params);
+}
+
+GreatCirclePairs great_circle_pairs(const SkyView& view, const GreatCircleParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "great_circle";
   if (params.pairs == PairMode::interval && params.interval < 1)
@@ -351,12 +357,12 @@ GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircle
   const std::size_t min_frames =
       params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
   GreatCirclePairs out;
-  out.sky = prepare_sky_images(stack, params.input, min_frames, method);
-  if (params.input.sky_mask) apply_sky_mask(out.sky, stack);
+  out.sky = view.prepared(min_frames, method);
+  if (params.input.sky_mask) apply_mask(out.sky, view.sky_mask(out.sky));
   const SkyImages& sky = out.sky;
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
-  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
+  const std::vector<std::vector<float>> filtered = view.filtered(sky, radius);
 
   // Sample pixels for the radial/plane decision.
   std::vector<std::size_t> samples;

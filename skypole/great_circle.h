@@ -59,6 +59,7 @@
 #include "stack/frame.h"
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
+#include "skypole/stack_sky.h"
 
 namespace skypol::skypole {
 
@@ -137,6 +138,8 @@ struct GreatCirclePairs {
   double seconds = 0;  // what steps 1–3 took
 };
 GreatCirclePairs great_circle_pairs(const stack::Stack& stack, const GreatCircleParams& params);
+// The same on a view of a stack (stack_sky.h); params.input is the view's.
+GreatCirclePairs great_circle_pairs(const SkyView& view, const GreatCircleParams& params);
 
 // Steps 4–5 on the pairs both of whose frames `keep_frame` keeps (nullptr or empty: all).
 GreatCircleResult great_circle_pole(const GreatCirclePairs& pairs, const GreatCircleParams& params,

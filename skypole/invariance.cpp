@@ -14,6 +14,7 @@
 #include "sky/sun.h"
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
+#include "skypole/stack_sky.h"
 #include "skypole/invariance_refine.h"
 
 namespace skypol::skypole {
@@ -57,14 +58,14 @@ Eigen::MatrixXd residual_projector(const std::vector<double>& tau, bool linear) 
 
 // The sun's motion since the middle instant, from the frames' times (ERFA; the changes of hour
 // angle and declination do not depend on the site), and the suns the images show.
-SunMotion sun_motion(const stack::Stack& stack, const std::vector<std::optional<Eigen::Vector3d>>& suns,
+SunMotion sun_motion(const FrameRefs& frames, const std::vector<std::optional<Eigen::Vector3d>>& suns,
                      bool drift) {
   SunMotion m;
-  const sky::Instant mid{0.5 * (stack.frames.front().truth.time.unix_seconds +
-                                stack.frames.back().truth.time.unix_seconds)};
+  const sky::Instant mid{0.5 * (frames.front()->truth.time.unix_seconds +
+                                frames.back()->truth.time.unix_seconds)};
   const sky::Sun at_mid = sky::sun_position(sky::Site{}, mid);
-  for (const auto& frame : stack.frames) {
-    const sky::Sun s = sky::sun_position(sky::Site{}, frame.truth.time);
+  for (const stack::Frame* frame : frames) {
+    const sky::Sun s = sky::sun_position(sky::Site{}, frame->truth.time);
     m.hour_angle_change.push_back(std::remainder(s.hour_angle - at_mid.hour_angle, 2 * kPi));
     m.declination_change.push_back(s.declination - at_mid.declination);
   }
@@ -123,6 +124,11 @@ HemisphereDecision reconcile_hemisphere(HemisphereDecision suns, int pattern_sen
 }
 
 InvarianceResult estimate_invariance(const stack::Stack& stack, const InvarianceParams& params) {
+  const StackSky whole(stack, params.input);
+  return estimate_invariance(SkyView(whole), params);
+}
+
+InvarianceResult estimate_invariance(const SkyView& view, const InvarianceParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "invariance";
   if (!(params.coarse_step_deg > 0.05 && params.coarse_step_deg <= 20))
@@ -134,13 +140,13 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   if (!(params.corotating_min_radius_deg > 0 && params.corotating_min_radius_deg <= params.corotating_radius_deg &&
         params.corotating_radius_deg < 60))
     throw std::invalid_argument("invariance: need 0 < corotating_min_radius_deg <= corotating_radius_deg < 60");
-  SkyImages sky = prepare_sky_images(stack, params.input, 3, method);
-  if (params.input.sky_mask) apply_sky_mask(sky, stack);
+  SkyImages sky = view.prepared(3, method);
+  if (params.input.sky_mask) apply_mask(sky, view.sky_mask(sky));
   const double radius =
       params.filter_radius_px.value_or(default_filter_radius_px(sky.width, sky.height));
   const double fit_radius = params.fit_radius_px.value_or(
       std::max(3.0, 0.01 * std::min(sky.width, sky.height)));
-  const std::vector<std::vector<float>> filtered = filter_all(sky, radius);
+  const std::vector<std::vector<float>> filtered = view.filtered(sky, radius);
 
   InvarianceResult result;
   const double span_h = (sky.times_s.back() - sky.times_s.front()) / 3600.0;
@@ -228,7 +234,7 @@ InvarianceResult estimate_invariance(const stack::Stack& stack, const Invariance
   if (result.corotating && !sky.times_known)
     throw std::invalid_argument("invariance: the co-rotating refinement needs frames taken at "
                                 "different times");
-  const SunMotion motion = result.corotating ? sun_motion(stack, suns, params.model_declination_drift)
+  const SunMotion motion = result.corotating ? sun_motion(view.frames(), suns, params.model_declination_drift)
                                              : SunMotion{};
   const SubPixel sp =
       result.corotating

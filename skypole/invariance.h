@@ -41,6 +41,7 @@
 #include "stack/frame.h"
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
+#include "skypole/stack_sky.h"
 
 namespace skypol::skypole {
 
@@ -114,5 +115,7 @@ HemisphereDecision reconcile_hemisphere(HemisphereDecision suns, int pattern_sen
 
 // Needs at least 3 frames. Throws std::invalid_argument for unusable input (estimate.h).
 InvarianceResult estimate_invariance(const stack::Stack& stack, const InvarianceParams& params = {});
+// The same on a view of a stack (stack_sky.h: a jackknife's sub-run); params.input is the view's.
+InvarianceResult estimate_invariance(const SkyView& view, const InvarianceParams& params = {});
 
 }  // namespace skypol::skypole

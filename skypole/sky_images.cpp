@@ -2,6 +2,8 @@
 #include "skypole/sky_images.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -55,20 +57,50 @@ const std::vector<float>* find_channel(const stack::Frame& f, const std::string&
 
 }  // namespace
 
+FrameRefs all_frames(const stack::Stack& stack) {
+  FrameRefs out;
+  for (const stack::Frame& f : stack.frames) out.push_back(&f);
+  return out;
+}
+
+FrameRefs kept_frames(const stack::Stack& stack, const std::vector<std::uint8_t>& keep) {
+  FrameRefs out;
+  for (std::size_t i = 0; i < keep.size() && i < stack.frames.size(); ++i)
+    if (keep[i]) out.push_back(&stack.frames[i]);
+  return out;
+}
+
 SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& options,
                              std::size_t min_frames, std::string_view method) {
+  return sky_of(read_sky_frames(stack, options, min_frames, method), nullptr, nullptr, min_frames, method);
+}
+
+namespace {
+
+void check_min_frames(std::size_t frames, std::size_t min_frames, const std::string& m) {
+  if (frames < min_frames)
+    throw std::invalid_argument(m + ": needs at least " + std::to_string(min_frames) +
+                                " frames, the stack has " + std::to_string(frames));
+}
+
+}  // namespace
+
+SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options, std::size_t min_frames,
+                          std::string_view method) {
   const std::string m(method);
   if (!stack.camera)
     throw std::invalid_argument(m + ": the stack has no camera (the lens model is needed to turn "
                                     "pixels into directions)");
-  if (stack.frames.size() < min_frames)
-    throw std::invalid_argument(m + ": needs at least " + std::to_string(min_frames) +
-                                " frames, the stack has " + std::to_string(stack.frames.size()));
+  check_min_frames(stack.frames.size(), min_frames, m);
   if (!(options.min_elevation_deg > -90 && options.min_elevation_deg < 90))
     throw std::invalid_argument(m + ": min_elevation_deg must be in (−90, 90), got " +
                                 std::to_string(options.min_elevation_deg));
 
-  SkyImages sky = sky_geometry(stack, options);
+  SkyFrames out;
+  out.stack = &stack;
+  out.options = options;
+  SkyImages& sky = out.geometry;
+  sky = sky_geometry(stack, options);
   if (sky.width <= 0 || sky.height <= 0)
     throw std::invalid_argument(m + ": the camera has an empty image (" + std::to_string(sky.width) +
                                 "×" + std::to_string(sky.height) + ")");
@@ -76,8 +108,7 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
   const std::string dolp_name = "DoLP." + sky.band;
   const std::size_t n = sky.pixels();
 
-  sky.valid.assign(n, 1);
-  std::vector<std::uint8_t> clipped;  // 1: a sky pixel the sensor masked for clipping, in some frame
+  std::vector<std::uint8_t> any(n, 0);  // usable in some frame
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
     const stack::Frame& f = stack.frames[k];
     if (f.width != sky.width || f.height != sky.height)
@@ -97,44 +128,83 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
       throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"mask\" has " +
                                   std::to_string(mask->size()) + " values, expected " +
                                   std::to_string(n));
+    std::vector<std::uint8_t>& usable = out.usable.emplace_back(n, 1);
     for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite((*d)[i])) sky.valid[i] = 0;
-      if (mask && !((*mask)[i] > 0.5f)) sky.valid[i] = 0;
+      if (!std::isfinite((*d)[i])) usable[i] = 0;
+      if (mask && !((*mask)[i] > 0.5f)) usable[i] = 0;
+      any[i] |= usable[i];
     }
+    std::vector<std::uint8_t>& clipped = out.clipped.emplace_back();
     if (const std::vector<float>* c = find_channel(f, "clipped"); c && c->size() == n) {
       clipped.resize(n, 0);
       for (std::size_t i = 0; i < n; ++i)
         if ((*c)[i] > 0.5f) clipped[i] = 1;
     }
-    sky.dolp.push_back(*d);
     if (k > 0 && f.truth.time < stack.frames[k - 1].truth.time)
       throw std::invalid_argument(m + ": frames must be in time order; " + frame_label(f, k) +
                                   " is earlier than frame " + std::to_string(k - 1));
   }
 
-  const double t0 = stack.frames.front().truth.time.unix_seconds;
-  sky.times_known = stack.frames.back().truth.time.unix_seconds != t0;
-  for (std::size_t k = 0; k < stack.frames.size(); ++k)
-    sky.times_s.push_back(stack.frames[k].truth.time.unix_seconds - t0);
-
   const double min_z = std::sin(options.min_elevation_deg * kDeg);
-  sky.ray_camera.assign(n, Eigen::Vector3f::Zero());
+  out.ray.assign(n, Eigen::Vector3f::Zero());
+  out.sky.assign(n, 0);
   tbb::parallel_for(0, sky.height, [&](int y) {
     for (int x = 0; x < sky.width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
                             static_cast<std::size_t>(x);
-      if (!sky.valid[i]) continue;
+      if (!any[i]) continue;
       const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
-      if (!r || (sky.level_from_camera * *r).z() < min_z) {
-        sky.valid[i] = 0;
-        continue;
-      }
-      sky.ray_camera[i] = r->normalized().cast<float>();
+      if (!r || (sky.level_from_camera * *r).z() < min_z) continue;
+      out.ray[i] = r->normalized().cast<float>();
+      out.sky[i] = 1;
     }
   });
-  for (std::size_t i = 0; i < n; ++i) sky.valid_count += sky.valid[i] ? 1 : 0;
+  return out;
+}
+
+SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
+                 const std::vector<std::uint8_t>* left_out, std::size_t min_frames, std::string_view method) {
+  const std::string m(method);
+  const stack::Stack& stack = *frames.stack;
+  std::vector<std::size_t> kept;
+  for (std::size_t k = 0; k < stack.frames.size(); ++k)
+    if (!keep || (*keep)[k]) kept.push_back(k);
+  check_min_frames(kept.size(), min_frames, m);
+
+  SkyImages sky = frames.geometry;
+  const std::size_t n = sky.pixels();
+  sky.valid.assign(n, 1);
+  std::vector<std::uint8_t> clipped;  // 1: a sky pixel the sensor masked for clipping, in some frame
+  for (const std::size_t k : kept) {
+    const std::vector<std::uint8_t>& usable = frames.usable[k];
+    for (std::size_t i = 0; i < n; ++i) sky.valid[i] &= usable[i];
+    if (const std::vector<std::uint8_t>& c = frames.clipped[k]; !c.empty()) {
+      clipped.resize(n, 0);
+      for (std::size_t i = 0; i < n; ++i) clipped[i] |= c[i];
+    }
+    sky.dolp.push_back(stack.frames[k].channels.at("DoLP." + sky.band));
+  }
+  if (left_out)
+    for (std::size_t i = 0; i < n; ++i)
+      if ((*left_out)[i]) sky.valid[i] = 0;
+
+  const double t0 = stack.frames[kept.front()].truth.time.unix_seconds;
+  sky.times_known = stack.frames[kept.back()].truth.time.unix_seconds != t0;
+  for (const std::size_t k : kept) sky.times_s.push_back(stack.frames[k].truth.time.unix_seconds - t0);
+
+  sky.ray_camera.assign(n, Eigen::Vector3f::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!sky.valid[i]) continue;
+    if (!frames.sky[i]) {
+      sky.valid[i] = 0;
+      continue;
+    }
+    sky.ray_camera[i] = frames.ray[i];
+    ++sky.valid_count;
+  }
   // The clipped sky, in pixel order, above the same elevation: no method reads it (it is not
   // valid), but the cloud gate counts it as sky it could not read (cloud_share.h).
+  const double min_z = std::sin(frames.options.min_elevation_deg * kDeg);
   for (std::size_t i = 0; i < clipped.size(); ++i) {
     if (!clipped[i] || sky.valid[i]) continue;
     const int x = static_cast<int>(i % static_cast<std::size_t>(sky.width));
@@ -144,22 +214,22 @@ SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& opti
   }
   if (sky.valid_count == 0 && !sky.clipped_rays.empty())
     throw std::invalid_argument(m + ": the sensor clipped the sky: no sky pixel above " +
-                                std::to_string(options.min_elevation_deg) +
+                                std::to_string(frames.options.min_elevation_deg) +
                                 "° elevation escapes clipping in every frame (channel \"clipped\"); a shorter "
                                 "exposure or a lower gain reads it");
   if (sky.valid_count == 0)
     throw std::invalid_argument(m + ": no pixel sees sky above " +
-                                std::to_string(options.min_elevation_deg) +
+                                std::to_string(frames.options.min_elevation_deg) +
                                 "° elevation (check the mask channel, the lens and the tilt)");
   return sky;
 }
 
-std::vector<std::vector<float>> aolp_channels(const stack::Stack& stack, const SkyImages& sky,
-                                              std::string_view method) {
+std::vector<const std::vector<float>*> aolp_channels(const FrameRefs& frames, const SkyImages& sky,
+                                                     std::string_view method) {
   const std::string name = "AoLP." + sky.band;
-  std::vector<std::vector<float>> out;
-  for (std::size_t k = 0; k < stack.frames.size(); ++k) {
-    const stack::Frame& f = stack.frames[k];
+  std::vector<const std::vector<float>*> out;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const stack::Frame& f = *frames[k];
     const std::vector<float>* a = find_channel(f, name);
     if (!a)
       throw std::invalid_argument(std::string(method) + ": " + frame_label(f, k) + " has no \"" +
@@ -167,7 +237,7 @@ std::vector<std::vector<float>> aolp_channels(const stack::Stack& stack, const S
     if (a->size() != sky.pixels())
       throw std::invalid_argument(std::string(method) + ": " + frame_label(f, k) + " channel \"" +
                                   name + "\" has the wrong size");
-    out.push_back(*a);
+    out.push_back(a);
   }
   return out;
 }
@@ -245,9 +315,37 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
-  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
+  return nth_smallest(v, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1)));
+}
+
+double nth_smallest(const std::vector<double>& v, std::size_t k) {
+  const auto by_sorting = [&] {
+    std::vector<double> w = v;
+    std::nth_element(w.begin(), w.begin() + static_cast<std::ptrdiff_t>(k), w.end());
+    return w[k];
+  };
+  if (v.size() < 4096) return by_sorting();
+  // A double's bits as an unsigned key in the order of its value (negatives reversed).
+  const auto key = [](double x) {
+    const auto b = std::bit_cast<std::uint64_t>(x);
+    return (b >> 63) ? ~b : b | (std::uint64_t{1} << 63);
+  };
+  constexpr int kShift = 48;  // buckets by sign, exponent and 4 bits of mantissa
+  std::vector<std::uint32_t> count(std::size_t{1} << (64 - kShift), 0);
+  for (const double x : v) {
+    if (std::isnan(x)) return by_sorting();  // where nth_element's answer is its own
+    ++count[key(x) >> kShift];
+  }
+  std::size_t bucket = 0, below = 0;
+  while (below + count[bucket] <= k) below += count[bucket++];
+  std::vector<double> in;
+  in.reserve(count[bucket]);
+  for (const double x : v)
+    if ((key(x) >> kShift) == bucket) in.push_back(x);
+  const auto at = in.begin() + static_cast<std::ptrdiff_t>(k - below);
+  std::nth_element(in.begin(), at, in.end());
+  // −0 and +0 are equal to nth_element, which may return either; the key orders them.
+  return *at == 0 ? by_sorting() : *at;
 }
 
 std::optional<double> sample_bilinear(const std::vector<float>& image, const SkyImages& sky,

@@ -40,13 +40,47 @@ struct SkyImages {
   std::size_t frames() const { return dolp.size(); }
 };
 
+// The frames a computation reads, in order: all of a stack's (all_frames), or the ones a frame
+// jackknife keeps (kept_frames: those whose keep[i] is 1).
+using FrameRefs = std::vector<const stack::Frame*>;
+FrameRefs all_frames(const stack::Stack& stack);
+FrameRefs kept_frames(const stack::Stack& stack, const std::vector<std::uint8_t>& keep);
+
 // Checks `stack` for `method` (which needs at least `min_frames` frames) and prepares it.
-// With `need_aolp`, the "AoLP.<band>" channel is required and returned in `aolp` (per frame).
 // Throws std::invalid_argument with a message naming the method, frame and channel.
+// The same as sky_of(read_sky_frames(stack, options, min_frames, method), …, method).
 SkyImages prepare_sky_images(const stack::Stack& stack, const InputOptions& options,
                              std::size_t min_frames, std::string_view method);
-std::vector<std::vector<float>> aolp_channels(const stack::Stack& stack, const SkyImages& sky,
-                                              std::string_view method);
+
+// prepare_sky_images in two steps, so that a jackknife's sub-run, which reads some of the frames
+// or the sky without one sector, costs a count and not a copy of the stack prepared again
+// (skypole/stack_sky.h). A pixel is valid in a set of frames when it is usable in each (finite
+// DoLP, not masked) and its ray is above the elevation limit, which is geometry: so each frame's
+// usability and the rays are read once, and the valid pixels of any set of frames follow.
+struct SkyFrames {
+  const stack::Stack* stack = nullptr;
+  InputOptions options;
+  SkyImages geometry;                               // sky_geometry and the band; no frames
+  std::vector<std::vector<std::uint8_t>> usable;    // per frame, per pixel: finite DoLP, not masked
+  std::vector<std::vector<std::uint8_t>> clipped;   // per frame, per pixel (empty: no "clipped" channel)
+  // Per pixel usable in some frame: its unit ray where that is above the elevation limit (else zero).
+  std::vector<Eigen::Vector3f> ray;
+  std::vector<std::uint8_t> sky;                    // 1: such a ray
+};
+// Checks `stack` as prepare_sky_images does and reads it (throws as it does).
+SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options, std::size_t min_frames,
+                          std::string_view method);
+// The prepare_sky_images of the frames whose keep[i] is 1 (nullptr: all of them) with the pixels
+// whose left_out[i] is 1 masked in every frame (nullptr: none): what prepare_sky_images makes of
+// frames_kept or sector_left_out (uncertainty.h), exactly. Throws as that would (too few frames
+// for `method`'s min_frames, no sky left).
+SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
+                 const std::vector<std::uint8_t>* left_out, std::size_t min_frames, std::string_view method);
+
+// The "AoLP.<band>" channel of each frame (not copied: they live in the frames); throws
+// std::invalid_argument naming the frame when one lacks it or has the wrong size.
+std::vector<const std::vector<float>*> aolp_channels(const FrameRefs& frames, const SkyImages& sky,
+                                                     std::string_view method);
 
 // The default disk-filter radius for an image: 0.5 % of the shorter side, at least 1 px
 // (≈ 5 px on the paper's 1224×1024 DoLP images, MATLAB's fspecial('disk') default radius).
@@ -66,6 +100,11 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
 // The q-quantile (0 ≤ q ≤ 1) of v: its element of rank ⌊q·(n − 1)⌋ (the lower median for q = 0.5);
 // 0 for an empty v.
 double quantile(std::vector<double> v, double q);
+
+// The element of rank k (0-based, k < v.size()) of v: what std::nth_element would put at k, found
+// without sorting a copy of v (a radix histogram of the leading bits picks the few elements that
+// can be it), since the robust fits take the median of millions of residuals per frame and round.
+double nth_smallest(const std::vector<double>& v, std::size_t k);
 
 // Bilinear sample of `image` at continuous pixel (u, v) (pixel centres at integers); nullopt if
 // any of the four neighbours is not valid.

@@ -19,12 +19,14 @@
 
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "camera/camera.h"
 #include "stack/frame.h"
+#include "skypole/e_vectors.h"
 #include "skypole/sky_images.h"
 
 namespace skypol::skypole {
@@ -45,15 +47,44 @@ struct SkyMask {
   std::vector<std::optional<Eigen::Vector3d>> suns;            // per frame, the suns it judged by
 };
 
-// The unit E-vector (camera frame) of a pixel looking along unit d_cam whose sensor AoLP is
-// `aolp` (radians), through the camera's transport; nullopt where it is undefined (projected
-// transport with d ⟂ the optical axis).
-std::optional<Eigen::Vector3d> e_vector(const Eigen::Vector3d& d_cam, double aolp, camera::Transport t);
+// What compute_sky_mask learns of each frame on its own: the sun it judges the frame by, and per
+// pixel whether the frame could judge it and why it was bad. A frame's judgments depend on that
+// frame and on which pixels are valid, not on the other frames, so that the mask of any subset of
+// the frames of one sky follows from them alone (mask_from_judgments): a frame jackknife's mask
+// costs a count, not a refit.
+struct SkyJudgments {
+  enum : std::uint8_t { kLow = 1, kAolp = 2, kSat = 4, kDark = 8, kJudged = 16 };
+  bool have_aolp = false, have_s0 = false;            // every frame judged had the channel
+  std::vector<std::optional<Eigen::Vector3d>> suns;  // per frame, the sun it judged by
+  std::vector<std::vector<std::uint8_t>> marks;      // per frame, per pixel: kJudged and the causes
+};
+// `frames` are the frames of `sky` (sky.dolp[f] is frames[f]'s). e_vectors (optional, one per
+// frame, nullptr: computed here): each frame's E-vectors (e_vectors.h) of a sky whose valid pixels
+// include sky's, at a min_dolp of at most 0.05. aolp_suns (optional, when the frames have AoLP):
+// each frame's sun_from_aolp on `sky` at DoLP ≥ 0.05, already fitted (stack_sky.h).
+SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const camera::Camera& camera,
+                       const SkyMaskParams& p = {},
+                       const std::vector<const FrameEVectors*>* e_vectors = nullptr,
+                       const std::vector<std::optional<Eigen::Vector3d>>* aolp_suns = nullptr);
+// The AoLP and DoLP thresholds the judgments fit and read E-vectors at.
+inline constexpr double kMaskMinDolp = 0.05;
+// Whether `frames` all have the AoLP and the S0 channel of `sky`'s band: what judge_sky reads.
+std::pair<bool, bool> aolp_and_s0(const SkyImages& sky, const FrameRefs& frames);
 
+// The mask from the judgments of the frames whose keep[f] is 1 (nullptr: every frame), with their
+// suns: a pixel is masked when it was bad in at least bad_share of the kept frames that judged it.
+// `sky` is the one judged.
+SkyMask mask_from_judgments(const SkyImages& sky, const SkyJudgments& j, const SkyMaskParams& p = {},
+                            const std::vector<std::uint8_t>* keep = nullptr);
+
+// judge_sky of every frame, then mask_from_judgments.
 SkyMask compute_sky_mask(const SkyImages& sky, const stack::Stack& stack, const SkyMaskParams& p = {});
 
-// compute_sky_mask, then clears the masked pixels' `valid` (and recounts valid_count), unless that
-// would leave fewer than 50 pixels. Returns the mask.
+// Clears the pixels `m` masks from `sky` (valid, ray_camera, valid_count), unless that would leave
+// fewer than 50 pixels.
+void apply_mask(SkyImages& sky, const SkyMask& m);
+
+// compute_sky_mask, then apply_mask. Returns the mask.
 SkyMask apply_sky_mask(SkyImages& sky, const stack::Stack& stack, const SkyMaskParams& p = {});
 
 }  // namespace skypol::skypole

@@ -15,6 +15,7 @@
 #include "sky/sun.h"
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
+#include "skypole/stack_sky.h"
 
 namespace skypol::skypole {
 namespace {
@@ -210,43 +211,60 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
                                              const std::vector<float>& aolp,
                                              const camera::Camera& camera, double min_dolp,
                                              double* quality, bool robust) {
-  std::vector<Eigen::Vector3d> es;
-  std::vector<double> ws;
-  for (std::size_t i = 0; i < sky.pixels(); ++i) {
+  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp), min_dolp, quality,
+                       robust);
+}
+
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const FrameEVectors& ev, double min_dolp, double* quality,
+                                             bool robust) {
+  // The E-vectors read: those of the sky's valid pixels, in pixel order, weighted by DoLP².
+  std::vector<std::uint32_t> at;  // indices into ev
+  for (std::size_t k = 0; k < ev.pixel.size(); ++k) {
+    const std::size_t i = ev.pixel[k];
     if (!sky.valid[i]) continue;
     const double p = dolp[i];
-    if (!(p >= min_dolp) || !std::isfinite(aolp[i])) continue;
-    const auto e = e_vector(to_double(sky.ray_camera[i]), aolp[i], camera.transport());
-    if (!e) continue;
-    es.push_back(*e);
-    ws.push_back(p * p);
+    constexpr std::uint8_t kRead = FrameEVectors::kDefined | FrameEVectors::kFiniteAolp;
+    if (!(p >= min_dolp) || (ev.flags[k] & kRead) != kRead) continue;
+    at.push_back(static_cast<std::uint32_t>(k));
   }
-  if (es.size() < 10) return std::nullopt;
+  if (at.size() < 10) return std::nullopt;
+  const auto e_at = [&](std::size_t m) -> const Eigen::Vector3d& { return ev.e[at[m]]; };
+  const auto w_at = [&](std::size_t m) {
+    const double p = dolp[ev.pixel[at[m]]];
+    return p * p;
+  };
   // Fit, then refit without the E-vectors farther out of the plane ⟂ s than 3 robust σ (at least
   // kMinCutDeg): pixels whose AoLP no sun explains (cloud, glare, a neutral point) stop pulling.
   constexpr double kMinCutDeg = 0.5;
-  std::vector<std::uint8_t> use(es.size(), 1);
+  std::vector<std::uint8_t> use(at.size(), 1);
   Eigen::Vector3d s;
   Eigen::Vector3d lambda;
   for (int round = 0; round < (robust ? 3 : 1); ++round) {
-    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    // c = Σ w·e·eᵀ, entry by entry as Eigen's `c += w * e * e.transpose()` adds ((w·e_i)·e_j to
+    // c(i, j), in order), in locals: Eigen kept c in memory, where each sum waited on the last.
+    double c00 = 0, c10 = 0, c20 = 0, c01 = 0, c11 = 0, c21 = 0, c02 = 0, c12 = 0, c22 = 0;
     int used = 0;
-    for (std::size_t k = 0; k < es.size(); ++k)
+    for (std::size_t k = 0; k < at.size(); ++k)
       if (use[k]) {
-        c += ws[k] * es[k] * es[k].transpose();
+        const Eigen::Vector3d& e = e_at(k);
+        const double w = w_at(k), we0 = w * e(0), we1 = w * e(1), we2 = w * e(2);
+        c00 += we0 * e(0), c10 += we1 * e(0), c20 += we2 * e(0);
+        c01 += we0 * e(1), c11 += we1 * e(1), c21 += we2 * e(1);
+        c02 += we0 * e(2), c12 += we1 * e(2), c22 += we2 * e(2);
         ++used;
       }
     if (used < 10) return std::nullopt;
+    Eigen::Matrix3d c;
+    c << c00, c01, c02, c10, c11, c12, c20, c21, c22;
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(c);
     s = eig.eigenvectors().col(0).normalized();
     lambda = eig.eigenvalues();
     if (round == 2 || !robust) break;
-    std::vector<double> r(es.size());
-    for (std::size_t k = 0; k < es.size(); ++k) r[k] = std::abs(es[k].dot(s));
-    std::vector<double> sorted = r;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double cut = std::max(std::sin(kMinCutDeg * kDeg), 3 * 1.4826 * sorted[sorted.size() / 2]);
-    for (std::size_t k = 0; k < es.size(); ++k) use[k] = r[k] <= cut ? 1 : 0;
+    std::vector<double> r(at.size());
+    for (std::size_t k = 0; k < at.size(); ++k) r[k] = std::abs(e_at(k).dot(s));
+    const double cut = std::max(std::sin(kMinCutDeg * kDeg), 3 * 1.4826 * nth_smallest(r, r.size() / 2));
+    for (std::size_t k = 0; k < at.size(); ++k) use[k] = r[k] <= cut ? 1 : 0;
   }
   if ((sky.level_from_camera * s).z() < 0) s = -s;
   if (quality) *quality = lambda(1) > 0 ? lambda(0) / lambda(1) : 1.0;
@@ -254,12 +272,29 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
 }
 
 RayleighFits fit_rayleigh_law(SkyImages& sky, const stack::Stack& stack, bool sky_mask) {
+  const StackSky whole(stack, {});
+  return fit_rayleigh_law(sky, SkyView(whole), sky_mask);
+}
+
+RayleighFits fit_rayleigh_law(SkyImages& sky, const SkyView& view, bool sky_mask, bool misfit) {
   RayleighFits f;
-  // The fits start at the lowest DoLP of the unmasked sky, or better at the suns the mask judged
-  // by: a cloud over the sun would leave the masked sky without a sun-like minimum.
-  f.starts = find_suns(sky, filter_all(sky, default_filter_radius_px(sky.width, sky.height)));
+  f.starts.resize(sky.frames());
+  // The fits start at the suns the mask judged by, or else at the lowest DoLP of the unmasked sky:
+  // a cloud over the sun would leave the masked sky without a sun-like minimum. (The minimum is
+  // looked for only where the mask has no sun: it costs a disk filter of the frame.)
+  SkyMask mask;
+  if (sky_mask) mask = view.sky_mask(sky);
+  std::vector<std::size_t> unjudged;
+  for (std::size_t t = 0; t < sky.frames(); ++t)
+    if (!sky_mask || !mask.suns[t]) unjudged.push_back(t);
+  std::vector<std::vector<float>> filtered(unjudged.size());
+  const double radius = default_filter_radius_px(sky.width, sky.height);
+  tbb::parallel_for(std::size_t{0}, unjudged.size(),
+                    [&](std::size_t k) { filtered[k] = disk_filter(sky.dolp[unjudged[k]], sky, radius); });
+  const auto minima = find_suns(sky, filtered);
+  for (std::size_t k = 0; k < unjudged.size(); ++k) f.starts[unjudged[k]] = minima[k];
   if (sky_mask) {
-    const SkyMask mask = apply_sky_mask(sky, stack);
+    apply_mask(sky, mask);
     for (std::size_t t = 0; t < f.starts.size(); ++t)
       if (mask.suns[t]) f.starts[t] = mask.suns[t];
   }
@@ -270,14 +305,19 @@ RayleighFits fit_rayleigh_law(SkyImages& sky, const stack::Stack& stack, bool sk
     if (!f.starts[t]) return;
     double pmax = 0;
     f.suns[t] = sun_from_dolp(sky, sky.dolp[t], *f.starts[t], &pmax, &f.rms[t], sky_mask);
-    if (f.suns[t]) f.misfit[t] = rayleigh_misfit(sky, sky.dolp[t], *f.suns[t], pmax);
+    if (f.suns[t] && misfit) f.misfit[t] = rayleigh_misfit(sky, sky.dolp[t], *f.suns[t], pmax);
   });
   return f;
 }
 
 double rayleigh_law_misfit(const stack::Stack& stack, const InputOptions& input) {
-  SkyImages sky = prepare_sky_images(stack, input, 1, "rayleigh_law_misfit");
-  const RayleighFits f = fit_rayleigh_law(sky, stack, input.sky_mask);
+  const StackSky whole(stack, input);
+  return rayleigh_law_misfit(SkyView(whole));
+}
+
+double rayleigh_law_misfit(const SkyView& view) {
+  SkyImages sky = view.prepared(1, "rayleigh_law_misfit");
+  const RayleighFits f = fit_rayleigh_law(sky, view, view.input().sky_mask);
   std::vector<double> fitted;
   for (std::size_t t = 0; t < f.suns.size(); ++t)
     if (f.suns[t]) fitted.push_back(f.misfit[t]);
@@ -285,17 +325,27 @@ double rayleigh_law_misfit(const stack::Stack& stack, const InputOptions& input)
 }
 
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params) {
+  const StackSky whole(stack, params.input);
+  return estimate_sun_vector(SkyView(whole), params);
+}
+
+SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   const char* method = "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
-  SkyImages sky = prepare_sky_images(stack, params.input, min_frames, method);
+  const FrameRefs& frames = view.frames();
+  SkyImages sky = view.prepared(min_frames, method);
+  // The frames' E-vectors, computed once for the whole stack (usable on this sky and its mask).
+  const std::vector<const FrameEVectors*> e_vectors =
+      params.source == SunSource::aolp ? view.e_vectors(sky) : std::vector<const FrameEVectors*>(sky.frames());
   RayleighFits fits;  // SunSource::dolp's suns (it masks the sky as it fits)
   if (params.source == SunSource::dolp)
-    fits = fit_rayleigh_law(sky, stack, params.input.sky_mask);
+    fits = fit_rayleigh_law(sky, view, params.input.sky_mask, params.model_misfit);
   else if (params.input.sky_mask)
-    apply_sky_mask(sky, stack);
-  const auto aolp = params.source == SunSource::aolp ? aolp_channels(stack, sky, method)
-                                                     : std::vector<std::vector<float>>{};
+    apply_mask(sky, view.sky_mask(sky));
+  // The AoLP channels are read where the fits are (StackSky, SkyView::aolp_suns); here a frame
+  // without one is named.
+  if (params.source == SunSource::aolp) (void)aolp_channels(frames, sky, method);
   SunVectorResult result;
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -310,14 +360,8 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   std::vector<std::optional<Eigen::Vector3d>> suns = fits.suns;
   std::vector<double> quality = fits.rms;
   const std::vector<double>& misfit = fits.misfit;
-  if (params.source == SunSource::aolp) {
-    suns.resize(sky.frames());
-    quality.assign(sky.frames(), 1.0);
-    tbb::parallel_for(std::size_t{0}, sky.frames(), [&](std::size_t t) {
-      suns[t] = sun_from_aolp(sky, sky.dolp[t], aolp[t], *stack.camera, params.min_dolp, &quality[t],
-                              params.input.sky_mask);
-    });
-  }
+  if (params.source == SunSource::aolp)
+    suns = view.aolp_suns(sky, e_vectors, params.min_dolp, params.input.sky_mask, &quality);
   for (std::size_t t = 0; t < sky.frames(); ++t) {
     if (!suns[t]) {
       if (params.source == SunSource::aolp)
@@ -333,11 +377,11 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
   }
 
   if (params.mode == PoleFromSun::ephemeris) {
-    const sky::Site site = params.site.value_or(stack.frames.front().truth.site);
+    const sky::Site site = params.site.value_or(frames.front()->truth.site);
     double sx = 0, sy = 0, sq = 0;
     std::vector<Eigen::Vector3d> enu;
     for (std::size_t t = 0; t < sky.frames(); ++t) {
-      enu.push_back(sky::sun_position(site, stack.frames[t].truth.time).direction);
+      enu.push_back(sky::sun_position(site, frames[t]->truth.time).direction);
       const Eigen::Vector3d l = sky.level_from_camera * result.suns_camera[t];
       const double d = std::atan2(enu[t].x(), enu[t].y()) - std::atan2(l.x(), l.y());
       sx += std::cos(d);

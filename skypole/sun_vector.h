@@ -29,9 +29,11 @@
 #include <Eigen/Core>
 
 #include "stack/frame.h"
+#include "skypole/e_vectors.h"
 #include "skypole/estimate.h"
 #include "skypole/invariance.h"  // Detrend
 #include "skypole/sky_images.h"
+#include "skypole/stack_sky.h"
 
 namespace skypol::skypole {
 
@@ -56,6 +58,9 @@ struct SunVectorParams {
   // 0.088 / 0.073° at 7 h. Both gain from 7 h on.
   double auto_detrend_min_hours = 7.0;
   double min_dolp = 0.05;
+  // SunSource::dolp: measure the Rayleigh-law misfit (PoleEstimate::model_misfit; a jackknife's
+  // sub-runs, which read only the pole, need not).
+  bool model_misfit = true;
 };
 
 struct SunVectorResult {
@@ -99,6 +104,11 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
                                              const std::vector<float>& aolp,
                                              const camera::Camera& camera, double min_dolp,
                                              double* quality = nullptr, bool robust = true);
+// The same from the frame's E-vectors computed once (e_vectors.h: `ev` of a sky whose valid pixels
+// include `sky`'s, at a min_dolp no higher than this one's).
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const FrameEVectors& ev, double min_dolp,
+                                             double* quality = nullptr, bool robust = true);
 
 // The sun in one frame from a Rayleigh fit of its DoLP, started at `start`; nullopt if the fit
 // fails. pmax receives the fitted Pmax, rms the DoLP residual.
@@ -114,14 +124,19 @@ struct RayleighFits {
   std::vector<double> rms, misfit;
 };
 RayleighFits fit_rayleigh_law(SkyImages& sky, const stack::Stack& stack, bool sky_mask);
+// The same on a view's prepared sky (stack_sky.h); without `misfit`, misfit stays 0.
+RayleighFits fit_rayleigh_law(SkyImages& sky, const SkyView& view, bool sky_mask, bool misfit = true);
 
 // How far the stack's sky departs from Rayleigh's law: the median misfit over the frames whose fit
 // succeeded (1 when none did: nothing like the law). sun_dolp's own model check, measured for a
 // method that assumes what the law implies, that DoLP is a function of the angle to the sun alone
 // (great_circle's equal-DoLP great circles), so that its calibration can gate on it.
 double rayleigh_law_misfit(const stack::Stack& stack, const InputOptions& input);
+double rayleigh_law_misfit(const SkyView& view);  // with the view's input
 
 // SunSource::aolp needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params = {});
+// The same on a view of a stack (stack_sky.h: a jackknife's sub-run); params.input is the view's.
+SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& params = {});
 
 }  // namespace skypol::skypole

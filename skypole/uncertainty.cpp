@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
 namespace skypol::skypole {
 namespace {
@@ -126,11 +128,24 @@ stack::Stack sector_left_out(const stack::Stack& stack, const Eigen::Vector2d& c
 std::optional<Eigen::Matrix2d> group_jackknife(PoleEstimate& e, int k, const std::function<PoleEstimate(int)>& sub,
                                                const std::string& what, const std::string& cause) {
   if (!e.valid) return std::nullopt;
+  // The sub-runs are independent: they run in parallel, and their answers are read in order as a
+  // sequential run would read them (the first group that fails is the one reported, an exception
+  // other than invalid_argument is thrown only when its group is reached), so that the result does
+  // not depend on the threads.
+  std::vector<PoleEstimate> subs(static_cast<std::size_t>(std::max(k, 0)));
+  std::vector<std::exception_ptr> errors(subs.size());
+  tbb::parallel_for(0, k, [&](int g) {
+    try {
+      subs[static_cast<std::size_t>(g)] = sub(g);
+    } catch (...) {
+      errors[static_cast<std::size_t>(g)] = std::current_exception();
+    }
+  });
   std::vector<Eigen::Vector2d> offsets;
   for (int g = 0; g < k; ++g) {
-    PoleEstimate s;
+    PoleEstimate& s = subs[static_cast<std::size_t>(g)];
     try {
-      s = sub(g);
+      if (errors[static_cast<std::size_t>(g)]) std::rethrow_exception(errors[static_cast<std::size_t>(g)]);
     } catch (const std::invalid_argument& err) {
       s.valid = false;
       s.why_invalid = err.what();

@@ -1,0 +1,33 @@
+// E-vectors once per frame (e_vectors.h).
+#include "skypole/e_vectors.h"
+
+#include <cmath>
+
+namespace skypol::skypole {
+
+std::optional<Eigen::Vector3d> e_vector(const Eigen::Vector3d& d, double a, camera::Transport t) {
+  if (t == camera::Transport::meridional) {
+    const Eigen::Vector3d e0 = camera::meridional_e0(d);
+    return Eigen::Vector3d(std::cos(a) * e0 + std::sin(a) * d.cross(e0));
+  }
+  if (std::abs(d.z()) < 1e-3) return std::nullopt;  // E along the axis: the sensor angle says nothing
+  Eigen::Vector3d e(std::cos(a), std::sin(a), -(std::cos(a) * d.x() + std::sin(a) * d.y()) / d.z());
+  return Eigen::Vector3d(e.normalized());
+}
+
+FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& dolp, const std::vector<float>& aolp,
+                              camera::Transport transport, double min_dolp) {
+  FrameEVectors out;
+  out.min_dolp = min_dolp;
+  for (std::size_t i = 0; i < sky.pixels(); ++i) {
+    if (!sky.valid[i] || !(static_cast<double>(dolp[i]) >= min_dolp)) continue;
+    const auto e = e_vector(to_double(sky.ray_camera[i]), aolp[i], transport);
+    out.pixel.push_back(static_cast<std::uint32_t>(i));
+    out.e.push_back(e.value_or(Eigen::Vector3d::Zero()));
+    out.flags.push_back(static_cast<std::uint8_t>((e ? FrameEVectors::kDefined : 0) |
+                                                  (std::isfinite(aolp[i]) ? FrameEVectors::kFiniteAolp : 0)));
+  }
+  return out;
+}
+
+}  // namespace skypol::skypole
