@@ -331,7 +331,10 @@ SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorPa
 
 SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
-  const char* method = "sun_vector";
+  // The name a decline speaks in: the method the user ran (a stack it cannot use says so in its words).
+  const char* method = params.source == SunSource::dolp          ? "sun_dolp"
+                       : params.mode == PoleFromSun::ephemeris ? "sun_vector_ephemeris"
+                                                               : "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
   const FrameRefs& frames = view.frames();
   SkyImages sky = view.prepared(min_frames, method);

@@ -125,6 +125,9 @@ TEST_CASE("the unpolarized share counts the sky a sensor masked for clipping, no
       }
   CHECK_THROWS_WITH(skypole::prepare_sky_images(all_clipped, {}, 1, "test"),
                     Catch::StartsWith("test: the sensor clipped the sky") && Catch::Contains("a shorter exposure"));
+  // Each method declines it in its own name (sun_dolp and the ephemeris share sun_vector's code).
+  for (const char* m : {"sun_vector", "sun_vector_ephemeris", "sun_dolp", "great_circle"})
+    CHECK_THROWS_WITH(skypole::run_method(all_clipped, m), Catch::StartsWith(std::string(m) + ": the sensor clipped the sky"));
   // The gate names the clipping, how much of the sky it took, and the cure.
   skypole::InputOptions ungated;
   ungated.calibrated = false;
