@@ -196,12 +196,9 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int n,
       "frame group", "the window is too short, too sparse or too noisy for a stated uncertainty");
 }
 
-std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
-                                                const std::function<PoleEstimate(const stack::Stack&)>& method,
-                                                const Eigen::Vector2d& centre_px, int sectors) {
-  return sector_jackknife(e, sectors, [&](int g) { return method(sector_left_out(stack, centre_px, g, sectors)); });
-}
-
+// The sector jackknife from the method's answer without sector g of `sectors`: a run on a view of
+// the stack with that sector left out (stack_sky.h SkyView::without_sector, the same as a run on
+// sector_left_out), or great_circle's refit of its cached zero crossings outside it (great_circle.h).
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
                                                 const std::function<PoleEstimate(int g)>& without_sector) {
   return group_jackknife(e, sectors, without_sector, "sky sector",

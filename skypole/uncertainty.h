@@ -104,12 +104,9 @@ std::optional<Eigen::Matrix2d> frame_jackknife(PoleEstimate& e, int frames,
                                                const std::function<PoleEstimate(const std::vector<std::uint8_t>& keep)>& refit,
                                                int max_groups = 6);
 
-// The sector jackknife: `method` runs on sector_left_out(stack, centre_px, g, sectors) for each g.
-std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, const stack::Stack& stack,
-                                                const std::function<PoleEstimate(const stack::Stack&)>& method,
-                                                const Eigen::Vector2d& centre_px, int sectors = 6);
-// The same from a method's own answer without sector g (great_circle refits its cached zero
-// crossings outside the sector: great_circle.h).
+// The sector jackknife from the method's answer without sector g of `sectors`: a run on a view of
+// the stack with that sector left out (stack_sky.h SkyView::without_sector, the same as a run on
+// sector_left_out), or great_circle's refit of its cached zero crossings outside it (great_circle.h).
 std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
                                                 const std::function<PoleEstimate(int g)>& without_sector);
 
