@@ -57,9 +57,17 @@ std::size_t index_of(const SkyImages& sky, int x, int y) {
   return static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) + static_cast<std::size_t>(x);
 }
 
-constexpr const char* kAtEdge =
-    "the minimum of DoLP variance is at the edge of the usable image (image circle, mask or "
-    "horizon): the pole is probably outside the field of view";
+// The minimum too near unusable pixels for its window, by what the nearest one is (why_unusable):
+// near masked sky the pole may be behind the mask, near the edge of the field of view beyond it;
+// either way a minimum that a short or noisy window left shallow wanders to an edge too (on the
+// calibration study's seed 2 about half of these declines had the pole well inside the field), so
+// both causes are named and neither is claimed.
+std::string at_edge(Unusable nearest) {
+  return "the minimum of DoLP variance is at " + std::string(unusable_words(nearest)) +
+         (nearest == Unusable::masked_sky ? ": the pole may be behind the mask"
+                                          : ": the pole may be outside the field of view") +
+         ", or the window is too short or noisy to place it";
+}
 constexpr const char* kOutside =
     "the minimum lies outside what the lens images (pole outside the field of view)";
 
@@ -112,7 +120,7 @@ SubPixel per_frame_refine(const SkyImages& sky, const Eigen::MatrixXd& h, Eigen:
         if (dx * dx + dy * dy > radius_px * radius_px) continue;
         const int x = x0 + dx, y = y0 + dy;
         if (x < 0 || y < 0 || x >= sky.width || y >= sky.height || !sky.valid[index_of(sky, x, y)]) {
-          out.why = kAtEdge;
+          out.why = at_edge(why_unusable(sky, x, y));
           return out;
         }
         const Eigen::Vector3d d = to_double(sky.ray_camera[index_of(sky, x, y)]);
@@ -213,6 +221,7 @@ std::optional<CorotatingWindow> corotating_window(const SkyImages& sky, const Ei
   // The clear radius: the angle to the nearest unusable pixel (outside the image: by its lens ray,
   // or its pixel distance where the lens has none).
   double clear = radius;
+  Unusable nearest = Unusable::field_edge;
   std::vector<std::pair<double, std::size_t>> inside;
   for (int dy = -r; dy <= r; ++dy)
     for (int dx = -r; dx <= r; ++dx) {
@@ -226,10 +235,13 @@ std::optional<CorotatingWindow> corotating_window(const SkyImages& sky, const Ei
       }
       const auto ray = sky.lens->ray(Eigen::Vector2d(x, y));
       const double ang = ray ? std::atan2(ray->cross(c).norm(), ray->dot(c)) : std::hypot(dx, dy) * pa;
-      clear = std::min(clear, ang - pa);
+      if (ang - pa < clear) {
+        clear = ang - pa;
+        nearest = why_unusable(sky, x, y);
+      }
     }
   if (clear < min_radius) {
-    why = kAtEdge;
+    why = at_edge(nearest);
     return std::nullopt;
   }
   std::erase_if(inside, [&](const auto& p) { return p.first > clear; });

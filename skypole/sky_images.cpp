@@ -491,7 +491,22 @@ SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options) {
   const Attitude att = options.attitude.value_or(
       Attitude{stack.frames.front().truth.tilt_deg, stack.frames.front().truth.roll_deg});
   sky.level_from_camera = camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
+  sky.min_elevation_deg = options.min_elevation_deg;
   return sky;
+}
+
+Unusable why_unusable(const SkyImages& sky, int x, int y) {
+  if (x < 0 || y < 0 || x >= sky.width || y >= sky.height) return Unusable::field_edge;
+  const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
+  if (!r || (sky.level_from_camera * r->normalized()).z() < std::sin(sky.min_elevation_deg * kDeg))
+    return Unusable::field_edge;
+  return Unusable::masked_sky;
+}
+
+std::string_view unusable_words(Unusable u) {
+  return u == Unusable::field_edge
+             ? "the edge of the field of view (image circle, image border or elevation limit)"
+             : "masked sky (cloud, clipped or unpolarized sky, an occluder or the mask channel)";
 }
 
 void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& ncp_camera,

@@ -26,6 +26,7 @@ struct SkyImages {
   std::string band;
   const camera::Lens* lens = nullptr;          // owned by the stack's camera
   Eigen::Matrix3d level_from_camera = Eigen::Matrix3d::Identity();
+  double min_elevation_deg = 0;                // InputOptions::min_elevation_deg: the lowest sky read
   std::vector<std::uint8_t> valid;             // 1 = sky pixel usable in every frame
   std::vector<Eigen::Vector3f> ray_camera;     // unit direction per pixel (zero where !valid)
   // Directions of the sky pixels a sensor masked because its demosaic read a clipped raw value in
@@ -148,6 +149,16 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
 // stack's tilt and roll, or options.attitude; estimate.h) — what prepare_sky_images starts from and
 // make_estimate reads.
 SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options);
+
+// Why pixel (x, y) is not usable sky, for a decline that has to say what its answer ran into:
+// the edge of the field of view (outside the image, beyond the image circle, or looking below
+// min_elevation_deg) or sky that the stack masked (cloud, clipped sky, an occluder, the mask
+// channel, the per-pixel sky mask or a non-finite value: the lens sees it above the elevation
+// limit).
+enum class Unusable { field_edge, masked_sky };
+Unusable why_unusable(const SkyImages& sky, int x, int y);
+// The words for it in a decline: "the edge of the field of view (…)" or "masked sky (…)".
+std::string_view unusable_words(Unusable u);
 
 // Sets e's position to the NCP direction `ncp_camera` (camera frame): the pole above the horizon,
 // north or south, α_rel, altitude, latitude, heading (or, in e.note, why it is undefined) and the

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 #include <iostream>
+#include <limits>
 
 #include "skypole/classic.h"
 #include "skypole/uncertainty.h"
@@ -131,6 +132,22 @@ TEST_CASE("classic SkyPole refuses bad input with a clear message", "[skypole][c
     CHECK_FALSE(e.valid);
     CHECK(e.why_invalid.find("field of view") != std::string::npos);
     CHECK_THROWS_AS(skypole::score(e, stack.frames.front().truth), std::invalid_argument);
+  }
+  SECTION("the pole behind masked sky: the decline names the mask, not the field of view") {
+    // A cloud parked on the pole (non-finite DoLP 20° about it in every frame): the pole is 47°
+    // from the optical axis, well inside the 185° field, and the rest of the day is clear.
+    stack::Stack stack = testing::make_stack(paper_spec(0));
+    const scene::Truth& t = stack.frames.front().truth;
+    const Eigen::Vector3d pole = (t.world_from_camera.transpose() * t.pole_enu).normalized();
+    testing::veil_disc(stack, pole, 20, [](std::size_t, const Eigen::Vector3d&, float& dolp, float&) {
+      dolp = std::numeric_limits<float>::quiet_NaN();
+    });
+    const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
+    INFO(e.why_invalid);
+    CHECK_FALSE(e.valid);
+    CHECK(e.why_invalid.find("masked sky") != std::string::npos);
+    CHECK(e.why_invalid.find("behind the mask") != std::string::npos);
+    CHECK(e.why_invalid.find("outside the field of view") == std::string::npos);
   }
   SECTION("a camera at a geographic pole: latitude yes, bearing undefined") {
     testing::SyntheticSpec spec = paper_spec(0);

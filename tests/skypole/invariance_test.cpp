@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <limits>
 
 #include "skypole/invariance.h"
 #include "synthetic_stack.h"
@@ -149,6 +150,25 @@ TEST_CASE("time invariance refuses a pole outside the field of view", "[skypole]
   const skypole::PoleEstimate e = skypole::estimate_invariance(stack).estimate;
   CHECK_FALSE(e.valid);
   CHECK(e.why_invalid.find("field of view") != std::string::npos);
+}
+
+TEST_CASE("time invariance says a pole behind masked sky is behind the mask", "[skypole][invariance]") {
+  // A cloud parked on the pole (non-finite DoLP 12° about it in every frame), 47° from the optical
+  // axis of a clear zenith day: what the minimum runs into is masked sky, not the field's edge.
+  testing::SyntheticSpec spec = paper_spec(0);
+  spec.size = 128;
+  stack::Stack stack = testing::make_stack(spec);
+  const scene::Truth& t = stack.frames.front().truth;
+  const Eigen::Vector3d pole = (t.world_from_camera.transpose() * t.pole_enu).normalized();
+  testing::veil_disc(stack, pole, 12, [](std::size_t, const Eigen::Vector3d&, float& dolp, float&) {
+    dolp = std::numeric_limits<float>::quiet_NaN();
+  });
+  const skypole::PoleEstimate e = skypole::estimate_invariance(stack).estimate;
+  INFO(e.why_invalid);
+  CHECK_FALSE(e.valid);
+  CHECK(e.why_invalid.find("masked sky") != std::string::npos);
+  CHECK(e.why_invalid.find("behind the mask") != std::string::npos);
+  CHECK(e.why_invalid.find("outside the field of view") == std::string::npos);
 }
 
 
