@@ -8,7 +8,6 @@
 #include <utility>
 #include <vector>
 #include <iostream>
-#include <limits>
 
 #include "skypole/classic.h"
 #include "skypole/uncertainty.h"
@@ -137,11 +136,7 @@ TEST_CASE("classic SkyPole refuses bad input with a clear message", "[skypole][c
     // A cloud parked on the pole (non-finite DoLP 20° about it in every frame): the pole is 47°
     // from the optical axis, well inside the 185° field, and the rest of the day is clear.
     stack::Stack stack = testing::make_stack(paper_spec(0));
-    const scene::Truth& t = stack.frames.front().truth;
-    const Eigen::Vector3d pole = (t.world_from_camera.transpose() * t.pole_enu).normalized();
-    testing::veil_disc(stack, pole, 20, [](std::size_t, const Eigen::Vector3d&, float& dolp, float&) {
-      dolp = std::numeric_limits<float>::quiet_NaN();
-    });
+    testing::mask_disc(stack, testing::true_pole_camera(stack), 20);
     const skypole::PoleEstimate e = skypole::estimate_classic(stack).estimate;
     INFO(e.why_invalid);
     CHECK_FALSE(e.valid);

@@ -29,12 +29,6 @@ skypole::InputOptions uncalibrated() {
   return in;
 }
 
-// The true pole in the camera frame.
-Eigen::Vector3d pole_camera(const stack::Stack& s) {
-  const scene::Truth& t = s.frames.front().truth;
-  return (t.world_from_camera.transpose() * t.pole_enu).normalized();
-}
-
 // The paper's clear noise-free day with a disc of `radius_deg` whose centre is `offset_deg` from
 // the pole, towards the zenith: there the DoLP is Rayleigh's for a sun 10° off the true one (turned
 // about East), what a haze or a reflection that follows the sun but not as the sky does would show
@@ -42,7 +36,7 @@ Eigen::Vector3d pole_camera(const stack::Stack& s) {
 // and one part of the window about the pole holds.
 stack::Stack veiled_near_pole(const stack::Stack& clear, double offset_deg, double radius_deg) {
   stack::Stack veiled = clear;
-  const Eigen::Vector3d p = pole_camera(clear);
+  const Eigen::Vector3d p = testing::true_pole_camera(clear);
   const Eigen::Vector3d up = (Eigen::Vector3d::UnitZ() - p.dot(Eigen::Vector3d::UnitZ()) * p).normalized();
   const Eigen::Vector3d centre = (std::cos(offset_deg * kDeg) * p + std::sin(offset_deg * kDeg) * up).normalized();
   testing::veil_disc(veiled, centre, radius_deg, [&](std::size_t f, const Eigen::Vector3d& ray, float& dolp, float&) {

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <iostream>
-#include <limits>
 
 #include "skypole/invariance.h"
 #include "synthetic_stack.h"
@@ -158,11 +157,7 @@ TEST_CASE("time invariance says a pole behind masked sky is behind the mask", "[
   testing::SyntheticSpec spec = paper_spec(0);
   spec.size = 128;
   stack::Stack stack = testing::make_stack(spec);
-  const scene::Truth& t = stack.frames.front().truth;
-  const Eigen::Vector3d pole = (t.world_from_camera.transpose() * t.pole_enu).normalized();
-  testing::veil_disc(stack, pole, 12, [](std::size_t, const Eigen::Vector3d&, float& dolp, float&) {
-    dolp = std::numeric_limits<float>::quiet_NaN();
-  });
+  testing::mask_disc(stack, testing::true_pole_camera(stack), 12);
   const skypole::PoleEstimate e = skypole::estimate_invariance(stack).estimate;
   INFO(e.why_invalid);
   CHECK_FALSE(e.valid);

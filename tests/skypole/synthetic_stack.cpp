@@ -2,6 +2,7 @@
 #include "synthetic_stack.h"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -132,6 +133,17 @@ void veil_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius
         paint(f, ray->normalized(), dolp[i], aolp[i]);
       }
   }
+}
+
+Eigen::Vector3d true_pole_camera(const stack::Stack& stack) {
+  const scene::Truth& t = stack.frames.front().truth;
+  return (t.world_from_camera.transpose() * t.pole_enu).normalized();
+}
+
+void mask_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius_deg, const std::string& band) {
+  veil_disc(stack, centre, radius_deg,
+            [](std::size_t, const Eigen::Vector3d&, float& dolp, float&) { dolp = std::numeric_limits<float>::quiet_NaN(); },
+            band);
 }
 
 }  // namespace skypol::testing

@@ -52,4 +52,11 @@ using VeilPaint = std::function<void(std::size_t frame, const Eigen::Vector3d& r
 void veil_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius_deg, const VeilPaint& paint,
                const std::string& band = "Y");
 
+// The true celestial pole of the stack's first frame, as a unit direction in the camera frame.
+Eigen::Vector3d true_pole_camera(const stack::Stack& stack);
+
+// A cloud parked on `centre` (unit, camera frame): DoLP non-finite within `radius_deg` of it in
+// every frame, so no method reads that sky (veil_disc painting NaN).
+void mask_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius_deg, const std::string& band = "Y");
+
 }  // namespace skypol::testing
