@@ -17,8 +17,10 @@
 // day with 1 % sensor noise the plain 5 % threshold misses by 6.6°, with the floor by 0.19°).
 // An absolute threshold (e.g. 0.01 DoLP, 0.07° noise-free) is ThresholdMode::absolute.
 // Validity: the maximal blob must not touch the edge of the usable image (image circle, mask,
-// horizon); if it does, the pole is probably outside the field of view and the estimate is
-// invalid. residual_deg = RMS angular radius of the blob. Uncertainty: skypole/uncertainty.h.
+// horizon); if it does, the estimate is invalid and says what the blob ran into and why: diffuse
+// (not localised: a short or noisy window), or compact at masked sky or at the edge of the field
+// of view, where the pole may lie beyond (classic.cpp). residual_deg = RMS angular radius of the
+// blob. Uncertainty: skypole/uncertainty.h.
 #pragma once
 
 #include <cstdint>

@@ -30,9 +30,10 @@
 //       fit_radius_px fitted by its own cubic in gnomonic tangent-plane coordinates, and V of
 //       these polynomials minimised by Levenberg–Marquardt, re-centred if the minimum leaves the
 //       window. Exact on noise-free stacks; sensor noise moves it by degrees near the equinox.
-// Invalid when the fit window does not fit inside the usable image (pole at the edge of or
-// outside the field of view; the co-rotating window first shrinks, down to
-// corotating_min_radius_deg). residual_deg: 1-σ angular uncertainty from the curvature of V and
+// Invalid when the fit window does not fit inside the usable image (the co-rotating window first
+// shrinks, down to corotating_min_radius_deg); the reason names what is nearest, masked sky or the
+// edge of the field of view, and both causes: the pole beyond it, or a minimum a short or noisy
+// window left shallow. residual_deg: 1-σ angular uncertainty from the curvature of V and
 // the residual scatter at the minimum. Uncertainty: skypole/uncertainty.h.
 #pragma once
 
