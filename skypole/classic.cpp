@@ -262,7 +262,8 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
       }
     bool field = false, masked = false;
     for (std::size_t i = 0; i < n; ++i)
-      if (label[i] == chosen && on_edge(sky, i)) unusable_neighbours(sky, i, field, masked);
+      if (label[i] == chosen) unusable_neighbours(sky, i, field, masked);
+    const Unusable hit = masked ? Unusable::masked_sky : Unusable::field_edge;
     const bool diffuse = edge_deg > residual || residual > kWideMaximumDeg;
     char buf[256];
     std::snprintf(buf, sizeof buf,
@@ -271,15 +272,12 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
     const std::string what = "the maximum of the summed binary images";
     std::string why;
     if (diffuse)
-      why = what + " is diffuse" + buf + " and touches " +
-            std::string(unusable_words(masked ? Unusable::masked_sky : Unusable::field_edge)) +
+      why = what + " is diffuse" + buf + " and touches " + std::string(unusable_words(hit)) +
             ": the differences do not localise the pole (window too short, frames too few or too noisy; "
             "or, less likely, the pole outside the field of view)";
     else
-      why = what + buf + (masked ? " runs into " : " touches ") +
-            std::string(unusable_words(masked ? Unusable::masked_sky : Unusable::field_edge)) +
-            (masked ? ": the pole may be behind the mask" : ": the pole may be outside the field of view") +
-            (masked && field ? " or outside the field of view" : "") +
+      why = what + buf + (masked ? " runs into " : " touches ") + std::string(unusable_words(hit)) + ": " +
+            std::string(pole_beyond_words(hit)) + (masked && field ? " or outside the field of view" : "") +
             ", or the differences peak there instead (a short or noisy window)";
     result.estimate = invalid_estimate(method, why);
     result.estimate.seconds = seconds();

@@ -63,10 +63,8 @@ std::size_t index_of(const SkyImages& sky, int x, int y) {
 // calibration study's seed 2 about half of these declines had the pole well inside the field), so
 // both causes are named and neither is claimed.
 std::string at_edge(Unusable nearest) {
-  return "the minimum of DoLP variance is at " + std::string(unusable_words(nearest)) +
-         (nearest == Unusable::masked_sky ? ": the pole may be behind the mask"
-                                          : ": the pole may be outside the field of view") +
-         ", or the window is too short or noisy to place it";
+  return "the minimum of DoLP variance is at " + std::string(unusable_words(nearest)) + ": " +
+         std::string(pole_beyond_words(nearest)) + ", or the window is too short or noisy to place it";
 }
 constexpr const char* kOutside =
     "the minimum lies outside what the lens images (pole outside the field of view)";

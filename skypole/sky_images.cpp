@@ -509,6 +509,10 @@ std::string_view unusable_words(Unusable u) {
              : "masked sky (cloud, clipped or unpolarized sky, an occluder or the mask channel)";
 }
 
+std::string_view pole_beyond_words(Unusable u) {
+  return u == Unusable::field_edge ? "the pole may be outside the field of view" : "the pole may be behind the mask";
+}
+
 void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& ncp_camera,
                 const InputOptions& options) {
   const Eigen::Vector3d ncp = ncp_camera.normalized();

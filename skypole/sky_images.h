@@ -157,8 +157,10 @@ SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options);
 // limit).
 enum class Unusable { field_edge, masked_sky };
 Unusable why_unusable(const SkyImages& sky, int x, int y);
-// The words for it in a decline: "the edge of the field of view (…)" or "masked sky (…)".
+// The words for it in a decline: "the edge of the field of view (…)" or "masked sky (…)", and
+// the cause it may point to: "the pole may be outside the field of view" or "… behind the mask".
 std::string_view unusable_words(Unusable u);
+std::string_view pole_beyond_words(Unusable u);
 
 // Sets e's position to the NCP direction `ncp_camera` (camera frame): the pole above the horizon,
 // north or south, α_rel, altitude, latitude, heading (or, in e.note, why it is undefined) and the
