@@ -4,6 +4,9 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -13,6 +16,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include "camera/dofp_sensor.h"
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/py_stack.h"
@@ -20,6 +24,7 @@
 #include "scene/scene_error.h"
 #include "scene/truth.h"
 #include "sky/sky_model.h"
+#include "stack/polarization_math.h"
 #include "stack/stack_io.h"
 
 namespace skypol::python {
@@ -111,6 +116,116 @@ std::shared_ptr<PyStack> from_arrays(const scene::Scene& sc, const std::vector<d
   return out;
 }
 
+using Attributes = std::vector<std::pair<std::string, std::string>>;
+
+// A stack written part by part from Python: the truth of every part is the scene's at its time
+// (scene/truth.h), the pixels of part i are produce(i), a dict of height×width float32 arrays
+// holding exactly `channels`, copied into one frame reused for every part, so a stack of any
+// length costs one frame of memory. attributes / part_attributes: StackHeader's.
+void write_stream(const scene::Scene& sc, const std::string& path, const std::vector<double>& times,
+                  const std::vector<std::string>& channels, const py::function& produce, const std::string& sky_model,
+                  const Attributes& attributes, const std::vector<Attributes>& part_attributes, bool half,
+                  const std::string& compression) {
+  const std::shared_ptr<const camera::Camera> cam = scene::build_camera(sc.camera);
+  const int w = cam->width(), h = cam->height();
+  std::vector<scene::Truth> truths;
+  for (double t : times) truths.push_back(scene::make_truth(sc, *cam, instant_of(t)));
+  stack::StackHeader header;
+  header.bands = sc.render.bands;
+  header.camera_description = sc.camera.description;
+  header.scene_text = sc.text;
+  header.sky_model = sky_model;
+  header.attributes = attributes;
+  header.part_attributes = part_attributes;
+  stack::WriteOptions wo;
+  wo.half = half;
+  wo.compression = compression;
+  stack::Frame frame;
+  frame.width = w;
+  frame.height = h;
+  std::optional<py::error_already_set> failure;  // produce's own exception, raised as it is
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  try {
+    stack::write_stack_reusing(path, truths, channels, w, h, header, wo, [&](std::size_t i) -> const stack::Frame& {
+      try {
+        const py::dict d = produce(i);
+        frame.truth = truths[i];
+        for (const std::string& c : channels) {
+          if (!d.contains(c)) throw std::invalid_argument("write_stream: part " + std::to_string(i) + " has no channel '" + c + "'");
+          const auto a = d[c.c_str()].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+          if (a.ndim() != 2 || a.shape(0) != h || a.shape(1) != w) {
+            throw std::invalid_argument("write_stream: channel '" + c + "' of part " + std::to_string(i) +
+                                        " is not " + std::to_string(h) + "×" + std::to_string(w));
+          }
+          std::vector<float>& v = frame.channels[c];
+          v.resize(n);
+          std::memcpy(v.data(), a.data(), n * sizeof(float));
+        }
+        return frame;
+      } catch (py::error_already_set& e) {
+        failure.emplace(std::move(e));
+        throw std::runtime_error("stopped by the Python producer");
+      }
+    });
+  } catch (const std::exception&) {
+    if (failure) throw *failure;
+    throw;
+  }
+}
+
+// One raw mosaic (DN) through the demosaic and the masks of `skypol import` (stack/capture_import.h):
+// the scene's [sensor] at the given exposure, Stokes per band zeroed outside `mask` (the lens'
+// image circle eroded by a pixel), DoLP and AoLP (stack/polarization_math.h), R/G/B copies of S0
+// for a colour sensor, and the clipped pixels masked (camera::mask_clipped) with channel "clipped".
+py::dict demosaic_frame(const scene::Scene& sc, const py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>& raw,
+                        const py::array_t<float, py::array::c_style | py::array::forcecast>& mask, double exposure_us) {
+  if (!sc.sensor) throw std::invalid_argument("demosaic_frame: the scene has no [sensor]");
+  camera::DofpSensor d = sc.sensor->dofp;
+  d.exposure_us = exposure_us;
+  camera::validate(d);
+  if (raw.ndim() != 2 || raw.shape(0) != d.height || raw.shape(1) != d.width || mask.ndim() != 2 ||
+      mask.shape(0) != d.height || mask.shape(1) != d.width) {
+    throw std::invalid_argument("demosaic_frame: raw and mask must be " + std::to_string(d.height) + "×" +
+                                std::to_string(d.width) + " (the sensor's height × width)");
+  }
+  const std::size_t n = static_cast<std::size_t>(d.width) * static_cast<std::size_t>(d.height);
+  const std::span<const std::uint16_t> dn(raw.data(), n);
+  std::vector<float> m(mask.data(), mask.data() + n);
+  const bool colour = d.color_filter != camera::ColorFilter::none;
+  std::vector<std::pair<std::string, camera::StokesPlanes>> planes;
+  if (colour) {
+    std::array<camera::StokesPlanes, 3> rgb = camera::demosaic_color_bilinear(d, dn, sc.sensor->demosaic);
+    for (std::size_t b = 0; b < 3; ++b) planes.emplace_back(sc.render.bands.at(b), std::move(rgb[b]));
+  } else {
+    planes.emplace_back(sc.render.bands.at(0), camera::demosaic_bilinear(d, dn, sc.sensor->demosaic));
+  }
+  py::dict out;
+  const auto array_of = [&](const std::vector<float>& v) {
+    py::array_t<float> a({static_cast<py::ssize_t>(d.height), static_cast<py::ssize_t>(d.width)});
+    std::memcpy(a.mutable_data(), v.data(), n * sizeof(float));
+    return a;
+  };
+  for (auto& [band, p] : planes) {
+    std::vector<float> dolp(n), aolp(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (m[i] == 0.0f) p.s0[i] = p.s1[i] = p.s2[i] = 0.0f;
+      dolp[i] = stack::dolp_of(p.s0[i], p.s1[i], p.s2[i]);
+      aolp[i] = stack::aolp_of(p.s1[i], p.s2[i]);
+    }
+    if (colour) out[band.c_str()] = array_of(p.s0);
+    out[("S0." + band).c_str()] = array_of(p.s0);
+    out[("S1." + band).c_str()] = array_of(p.s1);
+    out[("S2." + band).c_str()] = array_of(p.s2);
+    out[("DoLP." + band).c_str()] = array_of(dolp);
+    out[("AoLP." + band).c_str()] = array_of(aolp);
+  }
+  std::vector<float> clipped_sky;
+  camera::mask_clipped(camera::clipped_pixels(d, dn), m, clipped_sky);
+  out["mask"] = array_of(m);
+  out["clipped"] = array_of(clipped_sky);
+  return out;
+}
+
 }  // namespace
 
 void bind_stack(py::module_& m) {
@@ -156,6 +271,12 @@ void bind_stack(py::module_& m) {
       },
       py::arg("path"), py::arg("channels") = std::vector<std::string>{});
   m.def("stack_from_arrays", &from_arrays, py::arg("scene"), py::arg("unix_seconds"), py::arg("channels"));
+  m.def("write_stream", &write_stream, py::arg("scene"), py::arg("path"), py::arg("unix_seconds"), py::arg("channels"),
+        py::arg("produce"), py::arg("sky_model"), py::arg("attributes") = Attributes{},
+        py::arg("part_attributes") = std::vector<Attributes>{}, py::arg("half") = false, py::arg("compression") = "zip",
+        "A stack file written part by part: produce(i) gives part i's channels; the truth is the scene's");
+  m.def("demosaic_frame", &demosaic_frame, py::arg("scene"), py::arg("raw"), py::arg("mask"), py::arg("exposure_us"),
+        "A raw mosaic (DN) through the scene's [sensor] as `skypol import` converts it: the channels of a capture frame");
 }
 
 }  // namespace skypol::python

@@ -73,7 +73,7 @@ void put(Imf::Header& h, const char* name, const V& v) {
 }
 
 Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& channels, int width, int height,
-                        const StackHeader& sh, const WriteOptions& o) {
+                        const StackHeader& sh, const WriteOptions& o, std::size_t part) {
   Imf::Header h(width, height);
   h.setName(sky::format_iso8601(t.time));
   h.setType(Imf::SCANLINEIMAGE);
@@ -134,6 +134,17 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   put<Imf::StringAttribute>(h, "skypol:camera", sh.camera_description);
   put<Imf::StringAttribute>(h, "skypol:scene", sh.scene_text);
   if (half) put<Imf::DoubleAttribute>(h, "skypol:halfClamp", static_cast<double>(kHalfMax));
+  // A writer's own attributes may neither leave the skypol: namespace nor replace one of the above.
+  const auto add = [&h](const std::pair<std::string, std::string>& a) {
+    if (a.first.rfind("skypol:", 0) != 0 || h.find(a.first) != h.end()) {
+      throw std::invalid_argument("header attribute '" + a.first +
+                                  "': a writer's attributes are named skypol:… and not one the format writes");
+    }
+    put<Imf::StringAttribute>(h, a.first.c_str(), a.second);
+  };
+  for (const auto& a : sh.attributes) add(a);
+  if (part < sh.part_attributes.size())
+    for (const auto& a : sh.part_attributes[part]) add(a);
   return h;
 }
 
@@ -323,7 +334,8 @@ void write_to_temporary(const std::string& path, const std::vector<scene::Truth>
   try {
     std::vector<Imf::Header> headers;
     headers.reserve(truths.size());
-    for (const scene::Truth& t : truths) headers.push_back(part_header(t, channels, width, height, header, options));
+    for (std::size_t i = 0; i < truths.size(); ++i)
+      headers.push_back(part_header(truths[i], channels, width, height, header, options, i));
     const ExrPoolForWrite pool(options.compression);
     BackgroundFileStream out(tmp);
     {

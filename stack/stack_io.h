@@ -7,6 +7,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/output_defaults.h"
@@ -26,6 +27,11 @@ struct StackHeader {
   // (skypol:siteKnown = 0). docs/exr-format.md, "Captures".
   bool truth_known = true;
   bool site_known = true;
+  // Further string attributes a writer adds (names "skypol:…" that the format does not already
+  // use): `attributes` on every part, part_attributes[i] on part i (when there are that many), e.g.
+  // an imported database's source of truth and each frame's weather label (docs/import.md).
+  std::vector<std::pair<std::string, std::string>> attributes;
+  std::vector<std::vector<std::pair<std::string, std::string>>> part_attributes;
 };
 
 // Defaults: the renders' (scene/output_defaults.h), so every writer of stacks agrees by default.
