@@ -27,9 +27,11 @@ struct DofpSensor {
   // Polarizer angle (degrees) of the pixels at (row mod 2, col mod 2), in the order
   // {(0,0), (0,1), (1,0), (1,1)}: the IMX250MZR's 90° 45° over 135° 0°. Angles are in skypol's
   // sensor convention (from +x towards +y, i.e. clockwise as displayed with rows going down).
-  // Unverified: whether Sony's "45°" pixel transmits along the displayed up-right diagonal (then
-  // it is 135° here and the layout is {90, 135, 45, 0}); the choice flips the sign of S2 and of
-  // AoLP, never DoLP. Check against a rotating-polarizer measurement before trusting AoLP signs.
+  // Whether Sony's "45°" pixel transmits along the displayed up-right diagonal (then it is 135°
+  // here and the layout is {90, 135, 45, 0}) flips the sign of S2 and of AoLP, never DoLP. It is
+  // measured, not assumed: skypol.marseille.diagnose_layout fits the four sign hypotheses to the
+  // AoLP predicted from a known sun and camera orientation (docs/conventions.md, "Which polarizer
+  // layout"); until a real capture has been run through it, these are the datasheet's labels.
   std::array<double, 4> mosaic_deg = {90, 45, 135, 0};
   // Manufacturing errors per mosaic position: angle offsets (degrees) added to mosaic_deg.
   std::array<double, 4> angle_error_deg = {0, 0, 0, 0};

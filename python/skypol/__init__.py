@@ -27,7 +27,7 @@ from ._skypol import SceneError, method_names, parse_time, format_time
 __all__ = [
     "SceneError", "Scene", "Camera", "Frame", "Stack", "Estimate",
     "load_scene", "parse_scene", "render_frame", "render_stack", "iter_frames", "read_stack", "write_stack",
-    "stack_from_arrays", "estimate", "method_names", "sun_position", "parse_time", "format_time",
+    "stack_from_arrays", "estimate", "method_names", "sun_position", "parse_time", "format_time", "marseille",
 ]
 
 
@@ -406,3 +406,7 @@ def sun_position(latitude_deg: float, longitude_deg: float, times: Any, *, heigh
                               float(temperature_c), float(relative_humidity), float(wavelength_um),
                               float(ut1_minus_utc_s), refraction, delta_t_s)
     return {k: (a.reshape(shape + (3,)) if k == "direction" else a.reshape(shape)) for k, a in r.items()}
+
+
+# Poughon et al.'s Marseille skylight database into stacks (docs/import.md); imported last: it uses the above.
+from . import marseille  # noqa: E402

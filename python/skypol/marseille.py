@@ -24,7 +24,7 @@ import re
 import shutil
 import tempfile
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -32,7 +32,7 @@ from . import _skypol, format_time, parse_scene, sun_position
 from .marseille_pickle import ArrayProxy, Blob, MarseilleError, load_object_array
 
 __all__ = ["MarseilleError", "Calibration", "Row", "read_calibration", "read_day", "read_annotations",
-           "acquisitions", "import_day", "diagnose_layout", "parse_layout", "layout_text", "scene_text",
+           "acquisitions", "plan_day", "import_day", "write_manifest", "diagnose_layout", "parse_layout", "layout_text", "scene_text",
            "AUTHORS_LAYOUT", "WEATHER", "UTC_OFFSET_H", "SITE_HEIGHT_M"]
 
 # The authors' code labels the 2×2 polarizer block 0° 45° over 135° 90° (docs/import.md).
@@ -352,8 +352,11 @@ def lens_mask(scene) -> np.ndarray:
     """Pixels whose centre the lens images, eroded by one pixel (the demosaic mixes neighbours),
     as `skypol import` masks a capture."""
     cam = scene.camera
-    v, u = np.mgrid[0:cam.height, 0:cam.width]
-    inside = cam.pixel_to_direction(u.astype(np.float64), v.astype(np.float64))["valid"].astype(bool)
+    inside = np.zeros((cam.height, cam.width), dtype=bool)
+    u = np.arange(cam.width, dtype=np.float64)
+    for y0 in range(0, cam.height, 64):  # in bands: the directions of a whole frame are 150 MB
+        v = np.arange(y0, min(cam.height, y0 + 64), dtype=np.float64)
+        inside[y0:y0 + len(v)] = cam.pixel_to_direction(u[None, :], v[:, None])["valid"].astype(bool)
     p = np.pad(inside, 1, mode="edge")
     out = np.ones_like(inside)
     for dy in range(3):
@@ -383,6 +386,7 @@ class Written:
     window_min: int       # 0: the whole day
     rows: list[Row]
     labels: list[str]
+    layout: tuple[float, ...]
 
 
 def _windows(times: Sequence[float], window_min: int) -> list[list[int]]:
@@ -398,6 +402,32 @@ def _stack_name(day: str, window_min: int, first: float) -> str:
     if window_min <= 0:
         return f"{day}.exr"
     return f"{day}_{window_min}min_{_dt.datetime.fromtimestamp(first, _dt.timezone.utc):%H%M}Z.exr"
+
+
+def plan_day(day_path: str, cal: Calibration, *, frames: str = "auto", min_sun_elevation_deg: float = 0.0,
+             annotations_path: str | None = None) -> tuple[list[Row], list[str], list[Row]]:
+    """A day file's rows, their labels and the rows import_day would make frames of, checked
+    against the calibration (pass 1 only: the images are stepped over)."""
+    day_path = str(day_path)
+    rows = read_day(day_path)
+    if rows[0].shape != cal.size:
+        raise MarseilleError(day_path, f"image is {rows[0].shape[0]}×{rows[0].shape[1]}, the crop in "
+                                       f"{os.path.join(cal.folder, 'params_crop.npy')} is {cal.size[0]}×{cal.size[1]}", row=0)
+    if annotations_path is None:
+        candidate = day_path[:-len("_raw.npy")] + "_raw_annotations.npy" if day_path.endswith("_raw.npy") else ""
+        annotations_path = candidate if candidate and os.path.exists(candidate) else None
+    labels = read_annotations(annotations_path, rows) if annotations_path else ["?"] * len(rows)
+    chosen = [r for g in acquisitions(rows) if (r := choose(g, frames)) is not None]
+    if chosen:
+        el = sun_position(cal.latitude_deg, cal.longitude_deg, [r.unix_seconds for r in chosen],
+                          height_m=SITE_HEIGHT_M)["elevation_deg"]
+        chosen = [r for r, e in zip(chosen, np.atleast_1d(el)) if e >= min_sun_elevation_deg]
+    for a, b in zip(chosen, chosen[1:]):
+        if not b.unix_seconds > a.unix_seconds:
+            raise MarseilleError(day_path, f"two acquisitions at the same time {b.stamp}", row=b.index)
+    if not chosen:
+        raise MarseilleError(day_path, f"no acquisition with a frame '{frames}' while the sun is above {min_sun_elevation_deg}°")
+    return rows, labels, chosen
 
 
 def import_day(day_path: str, cal: Calibration, out_dir: str, *, layout: Sequence[float] | str = AUTHORS_LAYOUT,
@@ -419,24 +449,8 @@ def import_day(day_path: str, cal: Calibration, out_dir: str, *, layout: Sequenc
     base = os.path.basename(day_path)
     m = re.fullmatch(r"(\d{4}-\d{2}-\d{2})_raw\.npy", base)
     day = m.group(1) if m else os.path.splitext(base)[0]
-    rows = read_day(day_path)
-    if rows[0].shape != cal.size:
-        raise MarseilleError(day_path, f"image is {rows[0].shape[0]}×{rows[0].shape[1]}, the crop in "
-                                       f"{os.path.join(cal.folder, 'params_crop.npy')} is {cal.size[0]}×{cal.size[1]}", row=0)
-    if annotations_path is None:
-        candidate = day_path[:-len("_raw.npy")] + "_raw_annotations.npy" if day_path.endswith("_raw.npy") else ""
-        annotations_path = candidate if candidate and os.path.exists(candidate) else None
-    labels = read_annotations(annotations_path, rows) if annotations_path else ["?"] * len(rows)
-    chosen = [r for g in acquisitions(rows) if (r := choose(g, frames)) is not None]
-    if chosen:
-        el = sun_position(cal.latitude_deg, cal.longitude_deg, [r.unix_seconds for r in chosen],
-                          height_m=SITE_HEIGHT_M)["elevation_deg"]
-        chosen = [r for r, e in zip(chosen, np.atleast_1d(el)) if e >= min_sun_elevation_deg]
-    for a, b in zip(chosen, chosen[1:]):
-        if not b.unix_seconds > a.unix_seconds:
-            raise MarseilleError(day_path, f"two acquisitions at the same time {b.stamp}", row=b.index)
-    if not chosen:
-        raise MarseilleError(day_path, f"no acquisition with a frame '{frames}' while the sun is above {min_sun_elevation_deg}°")
+    rows, labels, chosen = plan_day(day_path, cal, frames=frames, min_sun_elevation_deg=min_sun_elevation_deg,
+                                    annotations_path=annotations_path)
     say(f"{base}: {len(rows)} rows, {len(chosen)} acquisitions chosen ({frames})")
 
     tmp = tempfile.mkdtemp(prefix=".skypol-marseille-", dir=out_dir if os.path.isdir(out_dir) else None)
@@ -462,7 +476,7 @@ def import_day(day_path: str, cal: Calibration, out_dir: str, *, layout: Sequenc
                 sel = [chosen[i] for i in idx]
                 path = os.path.join(out_dir, _stack_name(day, int(L), sel[0].unix_seconds))
                 _write_stack(path, cal, sel, labels, dn, layout, sensor_toml, comment, base, half, day_path)
-                written.append(Written(path, int(L), sel, [labels[r.index] for r in sel]))
+                written.append(Written(path, int(L), sel, [labels[r.index] for r in sel], layout))
                 say(f"  {os.path.basename(path)}: {len(sel)} frame(s)")
         return written
     finally:

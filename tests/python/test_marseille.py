@@ -11,7 +11,6 @@ cleanly, naming the file and row, with nothing written; reading stays within a f
 
 import json
 import os
-import pickle
 import random
 import shutil
 import subprocess
@@ -148,6 +147,51 @@ class Miniature(Tmp):
         w = marseille.import_day(self.mini.day_files[0], cal, self.path("t8"), frames="type:8", half=False)
         st = skypol.read_stack(w[0].path)
         self.assertEqual([float(t) for t in st.times], [t + 4 for t in self.mini.times])
+
+
+class RealSkies(unittest.TestCase):
+    """scripts/real-skies end to end on a miniature of two days: imports, estimates the real and the
+    simulated skies, and writes the report; its errors are `skypol estimate`'s on the same stacks."""
+
+    def test_report(self):
+        out = os.environ.get("MARSEILLE_TEST_OUT") or tempfile.mkdtemp(prefix="skypol-real-skies-")
+        shutil.rmtree(out, ignore_errors=True)
+        db = os.path.join(out, "db")
+        mm.make(db, day="2022-07-30", hours_local=(8, 11, 14, 17), labels="cc", fixed_types=False)
+        mm.make(db, day="2022-07-31", hours_local=(9, 12, 15), labels="o", fixed_types=False)
+        env = dict(os.environ, SKYPOL_CACHE_DIR=os.path.join(out, "cache"))
+        r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "real-skies"), db, "-o", os.path.join(out, "report"),
+                            "--window", "10", "0", "-q"], capture_output=True, text=True, env=env)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rep = os.path.join(out, "report")
+        with open(os.path.join(rep, "real-skies.csv")) as f:
+            import csv
+            lines = list(csv.DictReader(f))
+        methods = set(skypol.method_names())
+        for src in ("real", "simulated"):
+            self.assertEqual({l["method"] for l in lines if l["source"] == src}, methods)
+        day = {(l["source"], l["method"], l["weather"]): l for l in lines if l["window_min"] == "0"}
+        self.assertEqual(day[("real", "sun_vector_ephemeris", "all")]["windows"], "2")
+        self.assertEqual(day[("real", "sun_vector_ephemeris", "c")]["windows"], "1")
+        self.assertEqual(day[("real", "sun_vector_ephemeris", "o")]["windows"], "1")
+        # the report's median over the two days, from skypol estimate run here on the imported stacks
+        errs = []
+        for d in ("2022-07-30", "2022-07-31"):
+            e = subprocess.run([os.environ.get("SKYPOL_BIN", os.path.join(ROOT, "build", "skypol")), "estimate",
+                                os.path.join(rep, "stacks", f"{d}.exr"), "-m", "sun_vector_ephemeris", "--json", "-q"],
+                               capture_output=True, text=True)
+            errs.append(abs(json.loads(e.stdout)[0]["bearing_error_deg"]))
+        self.assertAlmostEqual(float(day[("real", "sun_vector_ephemeris", "all")]["median_abs_bearing_error_deg"]),
+                               float(np.median(errs)), delta=1e-5)
+        for l in lines:
+            if l["cone95_coverage"]:
+                self.assertTrue(0 <= float(l["cone95_coverage"]) <= 1)
+        with open(os.path.join(rep, "real-skies.md")) as f:
+            md = f.read()
+        self.assertIn("sun-fitted calibration", md)
+        self.assertIn("## Window: day", md)
+        self.assertIn("| sun_vector_ephemeris | all | 2/2 |", md)
+        self.assertTrue(os.path.exists(os.path.join(rep, "sim", "2022-07-31.exr")))
 
 
 class LayoutDiagnostic(Tmp):
