@@ -32,7 +32,7 @@ from . import _skypol, format_time, parse_scene, sun_position
 from .marseille_pickle import ArrayProxy, Blob, MarseilleError, load_object_array
 
 __all__ = ["MarseilleError", "Calibration", "Row", "read_calibration", "read_day", "read_annotations",
-           "acquisitions", "plan_day", "import_day", "write_manifest", "diagnose_layout", "parse_layout", "layout_text", "scene_text",
+           "acquisitions", "plan_day", "import_day", "write_manifest", "diagnose_day", "verdict", "diagnose_layout", "parse_layout", "layout_text", "scene_text",
            "AUTHORS_LAYOUT", "WEATHER", "UTC_OFFSET_H", "SITE_HEIGHT_M"]
 
 # The authors' code labels the 2×2 polarizer block 0° 45° over 135° 90° (docs/import.md).
@@ -571,20 +571,64 @@ def diagnose_layout(raw_dn: np.ndarray, scene, unix_seconds: float, assumed: Seq
     return out
 
 
-def _auto_layout(cal, chosen, labels, dn, day_path, say) -> tuple[float, ...]:
-    """The layout most of the day's clearest frames decide (clear-sky labels first, at most 5)."""
-    order = sorted(chosen, key=lambda r: ({"c": 0, "f": 1, "m": 2}.get(labels[r.index], 3), r.unix_seconds))[:5]
+def _clearest(cal: Calibration, chosen: Sequence[Row], labels: Sequence[str], count: int) -> list[Row]:
+    """Up to `count` frames for the layout diagnostic: clear labels first, then few clouds and mist,
+    each nearest to local solar noon (the sky's pattern is then in the middle of the image)."""
+    noon_h = 12 - cal.longitude_deg / 15
+    def rank(r: Row):
+        hour = (r.unix_seconds % 86400) / 3600
+        return ({"c": 0, "f": 1, "m": 2}.get(labels[r.index], 3), abs(hour - noon_h))
+    return sorted(chosen, key=rank)[:count]
+
+
+def diagnose_day(day_path: str, cal: Calibration, *, count: int = 5, frames: str = "auto",
+                 progress: Callable[[str], None] | None = None) -> list[dict]:
+    """diagnose_layout on a day's clearest frames (see _clearest), decoded as the authors' layout:
+    one result per frame, with its row, timestamp and label. Reads the day file twice (its rows,
+    then those frames' images); writes nothing but a temporary copy of the images."""
+    rows, labels, chosen = plan_day(day_path, cal, frames=frames)
+    picks = _clearest(cal, chosen, labels, count)
+    tmp = tempfile.mkdtemp(prefix=".skypol-marseille-")
+    try:
+        spill = {r.blob.serial: os.path.join(tmp, f"{r.index}.u2") for r in picks if r.blob}
+        if spill:
+            load_object_array(day_path, spill)
+        out = []
+        for r in picks:
+            raw = np.fromfile(spill[r.blob.serial], dtype="<u2").reshape(r.shape) if r.blob else r.small
+            out.append(_diagnose_row(cal, r, labels[r.index], _dn(raw, day_path, r.index), progress))
+        return out
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _diagnose_row(cal: Calibration, r: Row, label: str, dn: np.ndarray, progress) -> dict:
+    scene = parse_scene(scene_text(cal, [r.unix_seconds], AUTHORS_LAYOUT))
+    d = diagnose_layout(dn, scene, r.unix_seconds)
+    d.update(row=r.index, timestamp=r.stamp, weather=label)
+    if progress:
+        progress(f"  layout diagnostic, row {r.index} {r.stamp} ({label}): {d['reason']}")
+    return d
+
+
+def verdict(results: Sequence[dict]) -> str | None:
+    """The layout most of the decided diagnostics name (None when none decided)."""
     votes: dict[str, int] = {}
-    for r in order:
-        scene = parse_scene(scene_text(cal, [r.unix_seconds], AUTHORS_LAYOUT))
-        d = diagnose_layout(_dn(np.asarray(dn[r.index]), day_path, r.index), scene, r.unix_seconds)
-        say(f"  layout diagnostic, row {r.index} ({labels[r.index]}): {d['reason']}")
+    for d in results:
         if d["decided"]:
             votes[d["layout"]] = votes.get(d["layout"], 0) + 1
-    if not votes:
+    return max(votes.items(), key=lambda kv: kv[1])[0] if votes else None
+
+
+def _auto_layout(cal, chosen, labels, dn, day_path, say) -> tuple[float, ...]:
+    """The layout most of the day's clearest frames decide."""
+    results = [_diagnose_row(cal, r, labels[r.index], _dn(np.asarray(dn[r.index]), day_path, r.index), say)
+               for r in _clearest(cal, chosen, labels, 5)]
+    best = verdict(results)
+    if best is None:
         raise MarseilleError(day_path, "the layout diagnostic could not decide on any of the day's clearest frames: "
                                        "give the layout (e.g. --layout 0/45/135/90)")
-    return parse_layout(max(votes.items(), key=lambda kv: kv[1])[0])
+    return parse_layout(best)
 
 
 def write_manifest(path: str, written: Sequence[Written]) -> None:

@@ -12,7 +12,9 @@ Why not `np.load(path, allow_pickle=True)`:
   until the end, i.e. the whole file. This reader subclasses the pure-Python `pickle._Unpickler`
   and replaces the opcodes that carry large byte strings: their bytes are skipped (file.seek) or
   copied in chunks straight into a spill file the caller names, and a small `Blob` token stands
-  in the memo and in the array. Peak memory is a few MB whatever the file's length.
+  in the memo and in the array. Peak memory is a few MB whatever the file's length. (np.save
+  writes protocol 3. Protocol 2 pickles bytes as latin-1 text through _codecs.encode: such a file
+  reads, but its images are held in memory.)
 """
 
 from __future__ import annotations

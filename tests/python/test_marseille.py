@@ -11,6 +11,7 @@ cleanly, naming the file and row, with nothing written; reading stays within a f
 
 import json
 import os
+import pickle
 import random
 import shutil
 import subprocess
@@ -161,7 +162,7 @@ class RealSkies(unittest.TestCase):
         mm.make(db, day="2022-07-31", hours_local=(9, 12, 15), labels="o", fixed_types=False)
         env = dict(os.environ, SKYPOL_CACHE_DIR=os.path.join(out, "cache"))
         r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "real-skies"), db, "-o", os.path.join(out, "report"),
-                            "--window", "10", "0", "-q"], capture_output=True, text=True, env=env)
+                            "--window", "10", "0", "--keep-stacks", "-q"], capture_output=True, text=True, env=env)
         self.assertEqual(r.returncode, 0, r.stderr)
         rep = os.path.join(out, "report")
         with open(os.path.join(rep, "real-skies.csv")) as f:
@@ -235,6 +236,14 @@ class LayoutDiagnostic(Tmp):
         self.assertFalse(d["decided"])
         self.assertIsNone(d["layout"])
         self.assertIn("too cloudy", d["reason"])
+
+    def test_command_diagnoses_and_writes_nothing(self):
+        mini = mm.make(self.path("db2"), layout=(0, 135, 45, 90), hours_local=(9, 12), labels="c", fixed_types=False)
+        r = run_import(mini.root, "-o", self.path("none"), "--diagnose", "-q")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stdout.splitlines()[-1], "layout: 0/135/45/90")
+        self.assertIn("row 3 2022-07-30T12-00-07 (c): decided 0/135/45/90 scores", r.stdout)
+        self.assertFalse(os.path.exists(self.path("none")))
 
     def test_import_auto_layout(self):
         mini = mm.make(self.path("db"), layout=(90, 45, 135, 0), hours_local=(9, 12, 15), labels="c")
@@ -385,6 +394,41 @@ class Reader(Tmp):
         want = np.load(path, allow_pickle=True)[1, 0]  # our own file: numpy's reader as the oracle
         got = np.fromfile(self.path("img1"), dtype="<u2").reshape(200, 200)
         self.assertTrue(np.array_equal(got, want))
+
+    def test_other_pickle_protocols(self):
+        """np.save writes protocol 3; protocols 2 (bytes as _codecs.encode, so held in memory) and 4
+        (frames) read alike."""
+        path = self.path("d_raw.npy")
+        small_day(path, rows=3, size=200)
+        want = np.load(path, allow_pickle=True)
+        for protocol in (2, 4):
+            p = self.path(f"p{protocol}_raw.npy")
+            with open(p, "wb") as f:
+                np.lib.format.write_array_header_1_0(f, {"descr": "|O", "fortran_order": False, "shape": want.shape})
+                pickle.dump(want, f, protocol=protocol)
+            rows = marseille.read_day(p)
+            self.assertEqual([r.stamp for r in rows], list(want[:, 2]), protocol)
+            if protocol == 2:  # the bytes come as latin-1 text: read whole, not streamed
+                got = rows[2].small
+            else:
+                spill = {rows[2].blob.serial: self.path(f"img{protocol}")}
+                load_object_array(p, spill)
+                got = np.fromfile(spill[rows[2].blob.serial], dtype="<u2").reshape(200, 200)
+            self.assertTrue(np.array_equal(got, want[2, 0]), protocol)
+
+    def test_writer_attributes_stay_in_their_namespace(self):
+        top = self.path("cal")
+        mm.write_calib(top)
+        cal = marseille.read_calibration(top)
+        t = skypol.parse_time("2022-07-30T10:00:00Z")
+        scene = skypol.parse_scene(marseille.scene_text(cal, [t], LAYOUT))
+        zero = {c: np.zeros(cal.size, np.float32) for c in ["mask"]}
+        out = self.path("a.exr")
+        for name in ("skypol:time", "weather"):
+            with self.assertRaises(skypol.SceneError) as e:
+                skypol._skypol.write_stream(scene._h, out, [t], ["mask"], lambda i: zero, "capture", [(name, "x")])
+            self.assertIn(f"header attribute '{name}'", str(e.exception))
+            self.assertFalse(os.listdir(self.dir) != ["cal"], os.listdir(self.dir))
 
     def test_stamps_are_local_summer_time(self):
         self.assertEqual(skypol.format_time(marseille.parse_stamp("2022-08-23T10-04-27")), "2022-08-23T08:04:27Z")
