@@ -238,6 +238,7 @@ class Row:
     shape: tuple[int, int]
     blob: Blob | None       # where the image's bytes are (None for a tiny in-pickle image)
     small: np.ndarray | None = None
+    dtype: str = "<u2"      # the image's uint16 with its byte order
 
 
 def read_day(path: str) -> list[Row]:
@@ -269,7 +270,7 @@ def read_day(path: str) -> list[Row]:
             raise MarseilleError(path, f"timestamp {stamp} is before row {i - 1}'s {rows[-1].stamp}: rows must be in time order", row=i)
         blob = img.data if isinstance(img.data, Blob) else None
         small = None if blob else img.small_array().astype(np.uint16)
-        rows.append(Row(i, stamp, t, int(typ), float(expo), img.shape, blob, small))
+        rows.append(Row(i, stamp, t, int(typ), float(expo), img.shape, blob, small, img.dtype.str))
     if not rows:
         raise MarseilleError(path, "holds no rows")
     return rows
@@ -377,7 +378,7 @@ def _dn(raw: np.ndarray, path: str, row: int) -> np.ndarray:
         r, c = divmod(k, raw.shape[1])
         raise MarseilleError(path, f"pixel (row {r}, col {c}) holds {int(raw.ravel()[k])}: the database's values are "
                                    f"12 bits shifted left by {RIGHT_SHIFT} (multiples of 16)", row=row)
-    return (raw >> RIGHT_SHIFT).astype(np.uint16)
+    return (raw >> RIGHT_SHIFT).astype(np.uint16)  # native order for the demosaic
 
 
 @dataclass
@@ -460,7 +461,7 @@ def import_day(day_path: str, cal: Calibration, out_dir: str, *, layout: Sequenc
             load_object_array(day_path, spill)
         dn: dict[int, np.ndarray] = {}
         for r in chosen:  # every image checked before anything is written
-            raw = (np.memmap(spill[r.blob.serial], dtype="<u2", mode="r", shape=r.shape) if r.blob else r.small)
+            raw = (np.memmap(spill[r.blob.serial], dtype=r.dtype, mode="r", shape=r.shape) if r.blob else r.small)
             _dn(np.asarray(raw), day_path, r.index)
             dn[r.index] = raw
         if isinstance(layout, str) and layout == "auto":
@@ -595,7 +596,7 @@ def diagnose_day(day_path: str, cal: Calibration, *, count: int = 5, frames: str
             load_object_array(day_path, spill)
         out = []
         for r in picks:
-            raw = np.fromfile(spill[r.blob.serial], dtype="<u2").reshape(r.shape) if r.blob else r.small
+            raw = np.fromfile(spill[r.blob.serial], dtype=r.dtype).reshape(r.shape) if r.blob else r.small
             out.append(_diagnose_row(cal, r, labels[r.index], _dn(raw, day_path, r.index), progress))
         return out
     finally:
