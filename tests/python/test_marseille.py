@@ -143,6 +143,30 @@ class Miniature(Tmp):
         self.assertEqual(lines[1].split(",")[:6], ["2022-07-30.exr", "0", "0", "2022-07-30T06:00:07Z",
                                                    "2022-07-30T08-00-07", "1"])
 
+    def test_binned_import(self):
+        """--bin 2: the Stokes images are the full-resolution ones averaged over 2×2 blocks, the
+        camera is read out binned (the pole pixel moves to (u + ½)/2 − ½), the estimate stays."""
+        cal = marseille.read_calibration(os.path.join(self.mini.root, "calib"))
+        w = marseille.import_day(self.mini.day_files[0], cal, self.path("b2"), binning=2, half=False,
+                                 sensor_toml=mm.sensor_toml(LAYOUT))
+        st = skypol.read_stack(w[0].path)
+        self.assertEqual(st[0].shape, (64, 64))
+        for k, f in enumerate(self.stack):
+            full = f["mask"].reshape(64, 2, 64, 2).min(axis=(1, 3)) > 0
+            self.assertTrue(np.array_equal(st[k]["mask"] > 0, full))
+            for c in ("S0.B", "S1.R", "S2.G"):
+                want = f[c].astype(np.float64).reshape(64, 2, 64, 2).mean(axis=(1, 3))
+                np.testing.assert_allclose(st[k][c][full], want[full], rtol=1e-6, atol=1e-7)
+            s1, s2, s0 = (st[k][f"S{i}.G"][full].astype(np.float64) for i in (1, 2, 0))
+            np.testing.assert_allclose(st[k]["DoLP.G"][full], np.minimum(1, np.hypot(s1, s2) / s0), rtol=1e-5)
+            u, v = f.truth["pole_pixel"]
+            np.testing.assert_allclose(st[k].truth["pole_pixel"], [(u + 0.5) / 2 - 0.5, (v + 0.5) / 2 - 0.5], atol=1e-6)
+        a, b = skypol.estimate(st, "sun_vector_ephemeris"), skypol.estimate(self.stack, "sun_vector_ephemeris")
+        self.assertTrue(a.valid and b.valid)
+        self.assertLess(abs(a.heading_deg - b.heading_deg), 0.5)
+        with self.assertRaises(ValueError):
+            marseille.import_day(self.mini.day_files[0], cal, self.path("b3"), binning=3)
+
     def test_fixed_exposure_frames(self):
         cal = marseille.read_calibration(os.path.join(self.mini.root, "calib"))
         w = marseille.import_day(self.mini.day_files[0], cal, self.path("t8"), frames="type:8", half=False)
