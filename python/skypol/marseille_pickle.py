@@ -8,6 +8,9 @@ Why not `np.load(path, allow_pickle=True)`:
   allows only the few NumPy names such a file holds (`_reconstruct`, `ndarray`, `dtype`,
   `scalar`, and `_codecs.encode` for protocol 2), and each maps to a function here that builds an
   inert proxy and checks its arguments; every other global is refused with the file's name.
+  REDUCE calls only those functions, BUILD sets state only on this module's proxies (never an
+  attribute of a class), and the opcodes that build other objects (INST, OBJ, NEWOBJ, EXT) are
+  refused.
 - **Memory.** A day file is ~3 GB of images. The C unpickler keeps every `bytes` object in its memo
   until the end, i.e. the whole file. This reader subclasses the pure-Python `pickle._Unpickler`
   and replaces the opcodes that carry large byte strings: their bytes are skipped (file.seek) or
@@ -20,6 +23,7 @@ Why not `np.load(path, allow_pickle=True)`:
 from __future__ import annotations
 
 import io
+import math
 import os
 import pickle
 import struct
@@ -95,7 +99,7 @@ class ArrayProxy:
         if fortran is not False:
             raise pickle.UnpicklingError("array in Fortran order (a day file's arrays are C order)")
         self.shape, self.dtype = shape, dt.resolve()
-        count = int(np.prod(shape, dtype=np.int64))
+        count = math.prod(shape)
         if self.dtype == object:
             if not (isinstance(data, list) and len(data) == count):
                 raise pickle.UnpicklingError(f"object array {shape} holds {len(data) if isinstance(data, list) else type(data).__name__} items")
@@ -204,7 +208,29 @@ class RestrictedUnpickler(pickle._Unpickler):  # the pure-Python one: its memo a
         n = self._read_exact(1)[0]
         self.append(self._read_exact(n))
 
+    def _load_reduce(self) -> None:
+        args = self.stack.pop()
+        func = self.stack[-1]
+        if not any(func is f for f in _ALLOWED.values()) or not isinstance(args, tuple):
+            raise pickle.UnpicklingError("REDUCE of something other than an allowed NumPy reconstructor")
+        self.stack[-1] = func(*args)
+
+    def _load_build(self) -> None:
+        state = self.stack.pop()
+        inst = self.stack[-1]
+        if not isinstance(inst, (ArrayProxy, DtypeProxy)):
+            raise pickle.UnpicklingError(f"BUILD of a {type(inst).__name__}: only arrays and dtypes are built")
+        inst.__setstate__(state)
+
+    def _refuse(self) -> None:
+        raise pickle.UnpicklingError("object-building opcode (INST, OBJ, NEWOBJ, EXT) a NumPy array never uses")
+
     dispatch = dict(pickle._Unpickler.dispatch)
+    dispatch[pickle.REDUCE[0]] = _load_reduce
+    dispatch[pickle.BUILD[0]] = _load_build
+    for _op in (pickle.INST, pickle.OBJ, pickle.NEWOBJ, pickle.NEWOBJ_EX, pickle.EXT1, pickle.EXT2, pickle.EXT4):
+        dispatch[_op[0]] = _refuse
+    del _op
     dispatch[pickle.BINBYTES[0]] = _load_binbytes
     dispatch[pickle.BINBYTES8[0]] = _load_binbytes8
     dispatch[pickle.BYTEARRAY8[0]] = _load_binbytes8

@@ -6,7 +6,8 @@
 Writes a synthetic day file of `frames` rows of size×size uint16 images (image types 0–9 cycling,
 so every tenth row starts an acquisition), then, in fresh processes, (1) reads its rows and copies
 every image to a spill file, as the importer's two passes do, and (2) imports it whole into a day
-stack; each reports its peak resident memory (VmHWM) above the process's memory before the import.
+stack; each reports its peak resident memory (VmHWM) above the process's memory before the import,
+and its wall time.
 A day file of the database is 571 rows of 1636×1636 (3.1 GB): the reader's peak does not grow with
 the number of rows. tests/python/test_marseille.py runs it on small frames with a bound.
 """
@@ -45,7 +46,8 @@ def write_day(path: str, frames: int, size: int) -> None:
 def child(mode: str, path: str, calib: str, out: str) -> None:
     from skypol import marseille
     from skypol.marseille_pickle import load_object_array
-    base = vm("VmRSS")
+    import time
+    base, t0 = vm("VmRSS"), time.perf_counter()
     if mode == "read":
         rows = marseille.read_day(path)
         spill = {r.blob.serial: os.path.join(out, f"{r.index}.u2") for r in rows if r.blob}
@@ -57,7 +59,8 @@ def child(mode: str, path: str, calib: str, out: str) -> None:
         cal = marseille.read_calibration(calib)
         w = marseille.import_day(path, cal, out, sensor_toml=marseille.default_sensor_toml(marseille.AUTHORS_LAYOUT))
         n = sum(len(s.rows) for s in w)
-    print(json.dumps({"mode": mode, "peak_above_start_bytes": vm("VmHWM") - base, "rows_or_frames": n}))
+    print(json.dumps({"mode": mode, "peak_above_start_bytes": vm("VmHWM") - base, "rows_or_frames": n,
+                      "seconds": time.perf_counter() - t0}))
 
 
 def calib_for(folder: str, size: int) -> None:
@@ -101,7 +104,8 @@ def main() -> int:
         res = json.loads(r.stdout.strip().splitlines()[-1])
         results[mode] = res
         print(f"{mode:6s}: peak {res['peak_above_start_bytes'] / 1e6:7.1f} MB above the start "
-              f"= {res['peak_above_start_bytes'] / frame:5.1f} raw frames ({res['rows_or_frames']} rows/frames)")
+              f"= {res['peak_above_start_bytes'] / frame:5.1f} raw frames ({res['rows_or_frames']} rows/frames) "
+              f"in {res['seconds']:.1f} s")
     print(json.dumps(results))
     return 0
 

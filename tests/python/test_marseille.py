@@ -425,6 +425,19 @@ class Reader(Tmp):
         got = np.fromfile(self.path("img1"), dtype="<u2").reshape(200, 200)
         self.assertTrue(np.array_equal(got, want))
 
+    def test_build_cannot_patch_the_readers_classes(self):
+        """BUILD with slot state on an allowed class (numpy.dtype → the reader's DtypeProxy) would set
+        a class attribute for the rest of the process: refused, the class untouched."""
+        from skypol import marseille_pickle
+        path = self.path("patch_raw.npy")
+        with open(path, "wb") as f:
+            np.lib.format.write_array_header_1_0(f, {"descr": "|O", "fortran_order": False, "shape": (1, 4)})
+            f.write(b"\x80\x03cnumpy\ndtype\nN}X\x07\x00\x00\x00resolveK\x01s\x86b.")
+        with self.assertRaises(MarseilleError) as e:
+            marseille.read_day(path)
+        self.assertIn("BUILD of a type", str(e.exception))
+        self.assertTrue(callable(marseille_pickle.DtypeProxy.resolve))
+
     def test_big_endian_images(self):
         path = self.path("be_raw.npy")
         img = (np.arange(200 * 200, dtype=np.uint16).reshape(200, 200) % 4096 << 4).astype(">u2")
