@@ -26,6 +26,11 @@ struct StackHeader {
   // (skypol:siteKnown = 0). docs/exr-format.md, "Captures".
   bool truth_known = true;
   bool site_known = true;
+  // Frames through a sensor: every part carries skypol:exposureUs, the Frame::exposure_us of the
+  // frame written into it (which must have one). Parts' headers precede every pixel in the file,
+  // and a metered exposure is known only once its frame is rendered, so the writer reserves the
+  // attribute and fills in each part's value when the file is complete.
+  bool exposures = false;
 };
 
 // Defaults: the renders' (scene/output_defaults.h), so every writer of stacks agrees by default.
