@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <numbers>
 #include <numeric>
 #include <optional>
 
@@ -409,4 +410,49 @@ TEST_CASE("a fixed exposure renders the shipped sensor scene as it did before au
   }
   CHECK(raw == 0x1afa5b9d4c5d709aULL);
   CHECK(s0 == 0xb601b9c480b4d36dULL);
+}
+
+TEST_CASE("a vrte sky through an auto-exposed sensor needs no hand scaling", "[sensor][exposure][vrte]") {
+  // The sky's S0 is I/F (≈ 0.01–1 sr⁻¹), 30–50× darker than the grey models' unit: the meter
+  // finds the exposure that a fixed one would have to be scaled by hand to.
+  const std::string automatic = std::string(kClearSky) + "exposure = \"auto\"\n";
+  const scene::Scene vrte = scene::parse_scene(automatic + "[sky]\nmodel = \"vrte\"\nstreams = 8\ngrid = 17\n", "vrte.toml");
+  const scene::Scene rayleigh = scene::parse_scene(automatic, "rayleigh.toml");
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "skypol-sensor-vrte";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "vrte.exr").string();
+  render::render_scene(vrte, path, {}, dir / "tables");
+  const stack::Stack v = stack::read_stack(path);
+  render::render_scene(rayleigh, path);
+  const stack::Stack r = stack::read_stack(path);
+  std::filesystem::remove_all(dir);
+  REQUIRE(v.frames.size() == 3);
+  const auto cam = scene::build_camera(vrte.camera);
+  constexpr double kDeg = std::numbers::pi / 180;
+  for (std::size_t i = 0; i < 3; ++i) {
+    INFO("frame " << i);
+    REQUIRE(v.frames[i].exposure_us);
+    const double ratio = *v.frames[i].exposure_us / *r.frames[i].exposure_us;
+    CHECK(ratio > 5);
+    CHECK(ratio < 200);
+    const std::vector<float>& mask = v.frames[i].channel("mask");
+    const std::vector<float>& clipped = v.frames[i].channel("clipped");
+    const auto sky = std::count_if(mask.begin(), mask.end(), [](float m) { return m > 0; });
+    const auto lost = std::count(clipped.begin(), clipped.end(), 1.0f);
+    // Unlike Rayleigh's, this sky has an aureole: next to the sun it is more than 2.5× its 99.5th
+    // percentile, the most a polarizer at 80 % can take, and clips there as a camera's would.
+    // Nowhere else.
+    double farthest_deg = 0;
+    for (int y = 0; y < v.frames[i].height; ++y)
+      for (int x = 0; x < v.frames[i].width; ++x) {
+        if (clipped[static_cast<std::size_t>(y * v.frames[i].width + x)] == 0.0f) continue;
+        const auto ray = cam->ray(Eigen::Vector2d(x, y));
+        REQUIRE(ray);
+        farthest_deg = std::max(farthest_deg, std::acos(std::clamp(ray->d.dot(v.frames[i].truth.sun.direction), -1.0, 1.0)) / kDeg);
+      }
+    INFO(ratio << "x the Rayleigh exposure, " << lost << " of " << sky << " sky pixels clipped, the farthest "
+               << farthest_deg << " deg from the sun");
+    CHECK(lost < sky / 200);  // fewer than the 0.5 % above the percentile
+    CHECK(farthest_deg < 8);
+  }
 }
