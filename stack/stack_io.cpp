@@ -647,6 +647,21 @@ std::string describe_stack(const std::string& path) {
     os << "\ncamera:\n" << need<Imf::StringAttribute>(h0, "skypol:camera", path, 0).value();
     const Known known = known_of(h0);
     char line[512];
+    // A sensor's exposures: one line for the whole stack, the range when the meter set them.
+    if (h0.findTypedAttribute<Imf::DoubleAttribute>(kExposure)) {
+      double lo = 0, hi = 0;
+      for (int i = 0; i < file.parts(); ++i) {
+        const double e = need<Imf::DoubleAttribute>(file.header(i), kExposure, path, i).value();
+        lo = i == 0 ? e : std::min(lo, e);
+        hi = i == 0 ? e : std::max(hi, e);
+      }
+      if (lo == hi) {
+        std::snprintf(line, sizeof line, "exposure: %.6g us, every frame\n", lo);
+      } else {
+        std::snprintf(line, sizeof line, "exposure: %.6g to %.6g us (per frame: skypol:exposureUs)\n", lo, hi);
+      }
+      os << line;
+    }
     if (!known.truth) {
       // A capture: times and, when given, the site and the sun; the heading is what it is for.
       os << "truth: unknown (an imported capture: heading and pole are for the estimators to find"

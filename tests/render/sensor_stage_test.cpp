@@ -306,6 +306,7 @@ TEST_CASE("an auto-exposed clear sky: no pixel clipped, each frame's exposure in
   render::render_scene(sc, path);
   CHECK(render::frames_metered() == before + 3);
   const stack::Stack st = stack::read_stack(path);
+  CHECK_THAT(stack::describe_stack(path), Catch::Contains("exposure: ") && Catch::Contains(" us (per frame: skypol:exposureUs)"));
   std::filesystem::remove(path);
   REQUIRE(st.frames.size() == 3);
   // The header's exposure is the meter's on the ideal frame, recomputed here.
@@ -333,6 +334,7 @@ TEST_CASE("an auto-exposed clear sky: no pixel clipped, each frame's exposure in
   render::render_scene(fixed, path);
   CHECK(render::frames_metered() == again);
   const stack::Stack fs = stack::read_stack(path);
+  CHECK_THAT(stack::describe_stack(path), Catch::Contains("exposure: 640 us, every frame"));
   std::filesystem::remove(path);
   for (const stack::Frame& f : fs.frames) CHECK(f.exposure_us == std::optional<double>(640));
 }
