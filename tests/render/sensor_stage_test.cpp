@@ -356,6 +356,22 @@ TEST_CASE("a stack's exposures round-trip through its headers, and only a sensor
   stack::Stack st = stack::read_stack(path);
   REQUIRE(st.frames.size() == 3);
   for (std::size_t i = 0; i < 3; ++i) CHECK(st.frames[i].exposure_us == std::optional<double>(us[i]));
+  // Headers of many kB each (a long scene text), over several of the blocks the writer reads them
+  // back in: every part still gets its own value.
+  {
+    stack::StackHeader big = header;
+    big.scene_text = std::string(9000, '#');
+    std::vector<scene::Truth> many(40);
+    for (std::size_t i = 0; i < many.size(); ++i) many[i].time = sky::Instant{1.6639e9 + 60.0 * static_cast<double>(i)};
+    stack::write_stack(path, many, {"mask"}, 4, 3, big, {}, [&](std::size_t i) {
+      stack::Frame f = uniform_frame(4, 3, 0, 0, 0);
+      f.exposure_us = 100.0 + static_cast<double>(i);
+      return f;
+    });
+    const stack::Stack back = stack::read_stack(path);
+    REQUIRE(back.frames.size() == 40);
+    for (std::size_t i = 0; i < 40; ++i) CHECK(back.frames[i].exposure_us == std::optional<double>(100.0 + static_cast<double>(i)));
+  }
   // A frame without an exposure in a stack whose parts carry one: refused, nothing written.
   std::filesystem::remove(path);
   CHECK_THROWS(stack::write_stack(path, truths, {"mask"}, 4, 3, header, {}, [&](std::size_t i) {
