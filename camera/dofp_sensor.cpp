@@ -97,6 +97,38 @@ void validate(const DofpSensor& s) {
     require(std::isfinite(k) && k > 0, "band_response must be > 0");
 }
 
+void validate(const AutoExposure& m) {
+  require(std::isfinite(m.percentile) && m.percentile > 0 && m.percentile <= 100, "percentile must be in (0, 100]");
+  require(std::isfinite(m.target) && m.target > 0 && m.target <= 1, "target must be in (0, 1]");
+  require(std::isfinite(m.min_us) && m.min_us > 0, "min_us must be > 0");
+  require(std::isfinite(m.max_us) && m.max_us >= m.min_us, "max_us must be >= min_us");
+  require(std::isfinite(m.step_us) && m.step_us >= 0, "step_us must be >= 0");
+}
+
+double full_scale_e(const DofpSensor& s) {
+  const double adc_top_e = (std::ldexp(1.0, s.adc_bits) - 1 - s.black_level_dn) / s.gain_dn_per_e;
+  return std::min(s.full_well_e, adc_top_e);
+}
+
+double percentile_of(std::span<float> v, double percentile) {
+  if (v.empty()) return 0;
+  const double rank = std::clamp(percentile, 0.0, 100.0) / 100 * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(rank));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(lo), v.end());
+  const double below = v[lo];
+  if (lo + 1 >= v.size()) return below;
+  // The next order statistic is the smallest of the values after the lo-th.
+  const double above = *std::min_element(v.begin() + static_cast<std::ptrdiff_t>(lo + 1), v.end());
+  return below + (rank - static_cast<double>(lo)) * (above - below);
+}
+
+double metered_exposure_us(const DofpSensor& s, const AutoExposure& m, double sky_s0) {
+  if (!(sky_s0 > 0)) return m.max_us;  // NaN too; an infinite S0 meters to min_us
+  double t_us = m.target * full_scale_e(s) / (s.electrons_per_radiance_s * sky_s0) * 1e6;
+  if (m.step_us > 0) t_us = std::floor(t_us / m.step_us) * m.step_us;
+  return std::clamp(t_us, m.min_us, m.max_us);
+}
+
 double polarizer_radiance(const DofpSensor& s, int row, int col, double s0, double s1, double s2) {
   const int i = mosaic_index(row, col);
   const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;

@@ -57,6 +57,34 @@ struct DofpSensor {
 // Throws std::invalid_argument naming the field (width, extinction_ratio, adc_bits, ...).
 void validate(const DofpSensor& sensor);
 
+// Auto-exposure as a camera's meter sets it, frame by frame: the exposure time that puts the
+// `percentile`-th percentile of the sky's S0, in photo-electrons, at `target` × the pixel's full
+// scale (full_scale_e), within the camera's exposure range and steps. The meter reads the ideal
+// image before any noise; DofpSensor::exposure_us is then the frame's metered exposure.
+struct AutoExposure {
+  double percentile = 99.5;  // of the sky pixels' S0, in (0, 100]
+  double target = 0.8;       // share of the full scale, in (0, 1]
+  double min_us = 1;         // the camera's shortest exposure
+  double max_us = 1e7;       // its longest (10 s); also the exposure of a sky with no light
+  double step_us = 0;        // exposures are whole multiples of this (0: any time in the range)
+};
+// Throws std::invalid_argument naming the field (percentile, target, min_us, max_us, step_us).
+void validate(const AutoExposure& meter);
+
+// Electrons at which the pixel stops reading more light: its full well, or the ADC's top in
+// electrons ((2^adc_bits − 1 − black_level_dn) / gain_dn_per_e) when that comes first.
+double full_scale_e(const DofpSensor& sensor);
+
+// The linearly interpolated percentile (NumPy's default rule: rank p/100·(n − 1) between the
+// sorted values) of `values`, reordered in place; 0 for none.
+double percentile_of(std::span<float> values, double percentile);
+
+// The metered exposure (µs) for a sky whose `percentile`-th S0 percentile is `sky_s0` (radiance
+// units, as the pixel's band sees it: band_response applied): target·full_scale_e /
+// (electrons_per_radiance_s · sky_s0), rounded down to whole steps (never past the target), and
+// clamped to [min_us, max_us]. A sky of no light (sky_s0 ≤ 0) gets max_us.
+double metered_exposure_us(const DofpSensor& sensor, const AutoExposure& meter, double sky_s0);
+
 // Mean radiance reaching the pixel at (row, col) behind its polarizer, for Stokes (s0, s1, s2)
 // in the sensor frame: ½[(1 + 1/ER)·S0 + (1 − 1/ER)·(S1 cos 2θ + S2 sin 2θ)], θ with its error.
 double polarizer_radiance(const DofpSensor& sensor, int row, int col, double s0, double s1, double s2);

@@ -32,6 +32,7 @@ struct Setup {
   std::unique_ptr<sky::SkyModel> sky;
   std::vector<std::string> kept;
   bool keep_raw = false;
+  std::vector<std::uint8_t> sky_region;  // the meter's sky (auto exposure only)
   std::unique_ptr<render::Renderer> renderer;
 
   Setup(const scene::Scene& s, const std::optional<std::vector<std::string>>& channels) : sc(s) {
@@ -59,6 +60,7 @@ struct Setup {
       }
     }
     renderer = std::make_unique<render::Renderer>(cam, ro, render::make_occluders(sc.occluders));
+    if (sc.sensor && sc.sensor->auto_exposure) sky_region = render::sky_pixels(*cam);
   }
 
   void describe(PyStack& out) const {
@@ -73,7 +75,7 @@ struct Setup {
   void render(sky::Instant t, std::uint64_t index, stack::Frame& f) const {
     f.truth = scene::make_truth(sc, *cam, t);
     renderer->render(*sky, f.truth.sun, f);
-    if (sc.sensor) render::apply_sensor(*sc.sensor, sc.render.bands, index, f, keep_raw);
+    if (sc.sensor) render::apply_sensor(*sc.sensor, sc.render.bands, index, f, keep_raw, sky_region);
     std::erase_if(f.channels, [&](const auto& c) { return !contains(kept, c.first); });
   }
 };

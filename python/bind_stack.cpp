@@ -70,6 +70,7 @@ void write_file(const PyStack& s, const std::string& path, std::vector<std::stri
   header.camera_description = st.camera_description;
   header.scene_text = st.scene_text;
   header.sky_model = s.sky_model;
+  header.exposures = std::all_of(st.frames.begin(), st.frames.end(), [](const stack::Frame& f) { return f.exposure_us.has_value(); });
   stack::WriteOptions wo;
   wo.half = half;
   wo.compression = compression;

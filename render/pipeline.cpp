@@ -4,11 +4,13 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "render/occluders_embree.h"
 #include "stack/preview.h"
@@ -172,6 +174,10 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   header.camera_description = scene.camera.description;
   header.scene_text = scene.text;
   header.sky_model = band_skies.front()->name();
+  header.exposures = scene.sensor.has_value();
+  // The meter's region, one camera for the whole stack: computed only for auto exposure.
+  const std::vector<std::uint8_t> sky =
+      scene.sensor && scene.sensor->auto_exposure ? sky_pixels(*cam) : std::vector<std::uint8_t>{};
   stack::WriteOptions wo;
   wo.half = scene.output.half;
   wo.compression = scene.output.compression;
@@ -190,7 +196,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
     if (progress && i > 0) progress(i, truths.size());
     const auto t0 = Clock::now();
     renderer.render(band_skies, truths[i].sun, f);
-    if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw);
+    if (scene.sensor) apply_sensor(*scene.sensor, scene.render.bands, i, f, keep_raw, sky);
     render_s += since(t0);
     f.truth = truths[i];
     if (previews) previews->add(i, f, *cam, scene.render.bands.front());

@@ -1,7 +1,9 @@
 // Stacks recorded in memory, ideal or through a DoFP sensor (recorded_stack.h).
 #include "render/recorded_stack.h"
 
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "camera/camera.h"
 #include "camera/orientation.h"
@@ -48,7 +50,8 @@ stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::In
   return stack;
 }
 
-stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor) {
+stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor,
+                            const std::optional<camera::AutoExposure>& auto_exposure) {
   if (sensor.color_filter != camera::ColorFilter::none)
     throw std::invalid_argument("through_sensor: colour sensors are not supported here");
   stack::Stack out;
@@ -63,6 +66,10 @@ stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor
   spec.dofp.width = w;
   spec.dofp.height = h;
   camera::validate(spec.dofp);
+  if (auto_exposure) camera::validate(*auto_exposure);
+  spec.auto_exposure = auto_exposure;
+  const std::vector<std::uint8_t> sky =
+      auto_exposure && ideal.camera ? sky_pixels(*ideal.camera) : std::vector<std::uint8_t>{};
   const std::string& b = ideal.bands.front();
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
 
@@ -79,7 +86,7 @@ stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor
     g.channels["DoLP." + b].assign(n, 0.0f);
     g.channels["AoLP." + b].assign(n, 0.0f);
     g.channels["mask"] = mask;
-    apply_sensor(spec, {b}, i, g);
+    apply_sensor(spec, {b}, i, g, false, sky);
     for (const std::string& c : sensor_inputs({b})) g.channels.erase(c);
     out.frames.push_back(std::move(g));
   }

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,10 @@ stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::In
 // pixels beyond it and its DoLP is wrong. Only DoLP, AoLP and mask are kept. The sensor's width
 // and height are set to the stack's. Mono sensors only; throws std::invalid_argument for a colour
 // sensor or frames without S0–S2.
-stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor);
+// auto_exposure: each frame is taken at the meter's exposure instead of sensor.exposure_us
+// (render/sensor_stage.h: the sky pixels of the stack's camera, above its horizon); every frame's
+// exposure_us says which.
+stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor,
+                            const std::optional<camera::AutoExposure>& auto_exposure = std::nullopt);
 
 }  // namespace skypol::render

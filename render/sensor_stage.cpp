@@ -1,12 +1,19 @@
 #include "render/sensor_stage.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
 #include <stdexcept>
+
+#include <tbb/parallel_for.h>
 
 #include "stack/polarization_math.h"
 
 namespace skypol::render {
 namespace {
+
+std::atomic<std::size_t> g_frames_metered{0};
 
 // A band's S0–S2 channels as the demosaic's output planes: their storage is reused (moved out of
 // the frame and back by finish_band), so a frame the renderer reuses costs no allocation here.
@@ -73,12 +80,66 @@ std::vector<std::string> kept_channels(std::vector<std::string> rendered, const 
   return rendered;
 }
 
-void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
-                  stack::Frame& frame, bool keep_raw) {
+std::vector<std::uint8_t> sky_pixels(const camera::Camera& camera) {
+  const int w = camera.width(), h = camera.height();
+  std::vector<std::uint8_t> sky(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0);
+  tbb::parallel_for(0, h, [&](int y) {
+    thread_local std::vector<float> planes;
+    const auto n = static_cast<std::size_t>(w);
+    planes.resize(7 * n);
+    float* p = planes.data();
+    camera.ray_row(y, 0, n, {p, p + n, p + 2 * n, p + 3 * n, p + 4 * n, p + 5 * n, p + 6 * n});
+    const float* dz = p + 2 * n;
+    const float* valid = p + 6 * n;
+    for (std::size_t x = 0; x < n; ++x) sky[static_cast<std::size_t>(y) * n + x] = valid[x] > 0 && dz[x] > 0;
+  });
+  return sky;
+}
+
+double meter_exposure_us(const scene::SensorSpec& sensor, const std::vector<std::string>& bands,
+                         const stack::Frame& frame, std::span<const std::uint8_t> sky) {
+  if (!sensor.auto_exposure) throw std::invalid_argument("sensor: metering needs auto exposure");
   const camera::DofpSensor& d = sensor.dofp;
-  if (frame.width != d.width || frame.height != d.height) {
+  const int w = frame.width, h = frame.height;
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  if (!sky.empty() && sky.size() != n) throw std::invalid_argument("sensor: the meter's sky region differs in size");
+  const bool colour = d.color_filter != camera::ColorFilter::none;
+  if (bands.size() != (colour ? 3u : 1u)) throw std::invalid_argument("sensor: the meter needs the sensor's bands");
+  ++g_frames_metered;
+  const std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;
+  std::array<const std::vector<float>*, 3> s0{};
+  for (std::size_t b = 0; b < bands.size(); ++b) s0[b] = &frame.channel("S0." + bands[b]);
+  // The values are reordered by the percentile: a per-thread buffer, reused frame after frame.
+  thread_local std::vector<float> values;
+  values.clear();
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+      if ((mask && !((*mask)[i] > 0.0f)) || (!sky.empty() && !sky[i])) continue;
+      const int b = colour ? camera::band_of_pixel(d, y, x) : 0;
+      const double v = double{(*s0[static_cast<std::size_t>(b)])[i]} * (colour ? d.band_response[static_cast<std::size_t>(b)] : 1.0);
+      if (std::isfinite(v)) values.push_back(static_cast<float>(v));
+    }
+  }
+  return camera::metered_exposure_us(d, *sensor.auto_exposure, camera::percentile_of(values, sensor.auto_exposure->percentile));
+}
+
+std::size_t frames_metered() { return g_frames_metered.load(); }
+
+void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
+                  stack::Frame& frame, bool keep_raw, std::span<const std::uint8_t> sky) {
+  if (frame.width != sensor.dofp.width || frame.height != sensor.dofp.height) {
     throw std::invalid_argument("sensor: the frame's size differs from the sensor's");
   }
+  // The meter reads the ideal frame, before the mask is eroded and any noise; the frame is then
+  // taken at its exposure. Without auto exposure the sensor is used as it is, unread.
+  camera::DofpSensor metered;
+  if (sensor.auto_exposure) {
+    metered = sensor.dofp;
+    metered.exposure_us = meter_exposure_us(sensor, bands, frame, sky);
+  }
+  const camera::DofpSensor& d = sensor.auto_exposure ? metered : sensor.dofp;
+  frame.exposure_us = d.exposure_us;
   frame.zero_outside = 0;  // noise and the eroded mask change pixels outside the circle too
   // The bilinear demosaic reads each pixel's 3×3 neighbourhood: a pixel next to one that sees no
   // sky mixes in darkness, so it is masked too (the mask is eroded by one pixel).

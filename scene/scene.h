@@ -46,6 +46,9 @@ struct CameraSpec {
 struct SensorSpec {
   camera::DofpSensor dofp;
   camera::Demosaic demosaic = camera::Demosaic::nominal;
+  // exposure = "auto": each frame's exposure_us is metered (camera/dofp_sensor.h, AutoExposure)
+  // instead of dofp.exposure_us, the fixed exposure of every frame otherwise.
+  std::optional<camera::AutoExposure> auto_exposure;
 };
 
 struct RenderSpec {

@@ -2,7 +2,9 @@
 // Its size is the camera's (after binning); a preset gives the noise figures, keys override them.
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 #include "camera/dofp_sensor.h"
@@ -21,6 +23,51 @@ std::array<double, 4> four(Fields& f, std::string_view key, std::array<double, 4
   const std::vector<double> v = f.numbers(key, {});
   if (v.size() != 4) f.fail(key, "needs 4 numbers, for pixels (0,0) (0,1) (1,0) (1,1) of each 2x2 block");
   return {v[0], v[1], v[2], v[3]};
+}
+
+constexpr std::array<std::string_view, 5> kMeterKeys = {"auto_exposure_percentile", "auto_exposure_target",
+                                                        "auto_exposure_min_us", "auto_exposure_max_us",
+                                                        "auto_exposure_step_us"};
+
+// exposure = "fixed" (exposure_us, every frame) or "auto" (the meter's keys). A key of the other
+// mode is an error at that key: it would be silently ignored.
+void read_exposure(Fields& f, SensorSpec& s) {
+  const bool automatic = f.choice("exposure", "fixed", {"fixed", "auto"}) == "auto";
+  if (!automatic) {
+    for (std::string_view key : kMeterKeys)
+      if (f.has(key)) f.fail(key, "is a setting of the meter: it needs exposure = \"auto\"");
+    s.dofp.exposure_us = f.number("exposure_us", s.dofp.exposure_us, 1e-3, 1e9);
+    return;
+  }
+  if (f.has("exposure_us")) {
+    f.fail("exposure_us", "is the fixed exposure; with exposure = \"auto\" the meter sets each frame's "
+                          "(auto_exposure_min_us and auto_exposure_max_us bound it)");
+  }
+  camera::AutoExposure m;
+  m.percentile = f.number("auto_exposure_percentile", m.percentile, 0, 100);
+  m.target = f.number("auto_exposure_target", m.target, 0, 1);
+  m.min_us = f.number("auto_exposure_min_us", m.min_us, 1e-3, 1e9);
+  m.max_us = f.number("auto_exposure_max_us", m.max_us, 1e-3, 1e9);
+  m.step_us = f.number("auto_exposure_step_us", m.step_us, 0, 1e9);
+  const auto g = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  if (m.max_us < m.min_us) {
+    f.fail(f.has("auto_exposure_max_us") ? "auto_exposure_max_us" : "auto_exposure_min_us",
+           "the exposure range is empty: auto_exposure_min_us = " + g(m.min_us) + " is above auto_exposure_max_us = " +
+               g(m.max_us) + " (default 1e7, 10 s)");
+  }
+  try {
+    camera::validate(m);
+  } catch (const std::invalid_argument& e) {
+    // validate's messages start with the field: the key without its "auto_exposure_" prefix.
+    const std::string msg = e.what();
+    const std::string key = "auto_exposure_" + msg.substr(0, msg.find(' '));
+    f.fail(key, msg);
+  }
+  s.auto_exposure = m;
 }
 
 }  // namespace
@@ -52,7 +99,7 @@ SensorSpec read_sensor(Fields& f, const CameraSpec& camera_spec) {
     (void)f.numbers("band_response", {});
   }
   d.extinction_ratio = f.number("extinction_ratio", d.extinction_ratio, 1.0 + 1e-9, 1e12);
-  d.exposure_us = f.number("exposure_us", d.exposure_us, 1e-3, 1e9);
+  read_exposure(f, s);
   d.electrons_per_radiance_s = f.number("electrons_per_radiance_s", d.electrons_per_radiance_s, 0, 1e15);
   d.gain_dn_per_e = f.number("gain_dn_per_e", d.gain_dn_per_e, 1e-6, 1e6);
   d.black_level_dn = f.number("black_level_dn", d.black_level_dn, 0, 65535);

@@ -25,6 +25,9 @@ struct Frame {
   int height = 0;
   scene::Truth truth;  // scene/truth.h
   std::map<std::string, std::vector<float>> channels;
+  // The exposure (µs) the sensor took this frame with, fixed or metered (skypol:exposureUs,
+  // docs/exr-format.md); none for ideal Stokes (no [sensor]).
+  std::optional<double> exposure_us;
   // Which renderer left every channel zero outside its spans of the image circle (a token of
   // render::Renderer, 0 for none), so that its next render into this frame, when the caller lets
   // it (RenderOptions::reuse_cleared), need not clear those pixels again. Whatever else writes

@@ -6,13 +6,16 @@
 #include <cstdio>
 #include <condition_variable>
 #include <cstdint>
+#include <cstring>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <future>
 #include <memory>
 #include <mutex>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 #include <unistd.h>
 
@@ -52,6 +55,61 @@ bool stays_float(const std::string& channel) { return channel == "mask" || chann
 constexpr float kHalfMax = 65504.0f;
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
+
+constexpr const char* kExposure = "skypol:exposureUs";
+
+// Each part's exposure, noted as its frame is written (StackHeader::exposures).
+struct Exposures {
+  bool wanted = false;
+  std::vector<double> us;
+  void note(std::size_t part, const Frame& frame) {
+    if (!wanted) return;
+    if (!frame.exposure_us || !std::isfinite(*frame.exposure_us) || !(*frame.exposure_us > 0)) {
+      throw std::invalid_argument("frame " + std::to_string(part) + " has no exposure, and the stack's parts carry one");
+    }
+    us[part] = *frame.exposure_us;
+  }
+};
+
+// Writes the parts' exposures into their reserved skypol:exposureUs attributes of the complete file
+// at `path`. An EXR header stores an attribute as its name, NUL, its type name, NUL, the value's
+// size (4 bytes, little-endian) and the value (a double: 8 bytes, little-endian), and every part's
+// header comes before any pixel data, one header per part in part order: so the k-th occurrence of
+// that name, type and size in the file is part k's.
+void fill_exposures(const std::string& path, const std::vector<double>& us) {
+  static const std::string key = std::string(kExposure) + '\0' + "double" + '\0' + std::string("\x08\0\0\0", 4);
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  if (!f) throw std::runtime_error("cannot reopen the stack to write its exposures");
+  // The headers, read a block at a time until every part's attribute is found (the file's
+  // beginning: a few kB per part, never its pixels).
+  std::vector<std::streamoff> at;  // offsets of the values
+  std::string head;
+  std::vector<char> block(1 << 16);
+  std::size_t from = 0;
+  while (at.size() < us.size()) {
+    f.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const std::streamsize got = f.gcount();
+    if (got <= 0) break;
+    head.append(block.data(), static_cast<std::size_t>(got));
+    for (std::size_t k; at.size() < us.size() && (k = head.find(key, from)) != std::string::npos;) {
+      if (k + key.size() + 8 > head.size()) break;  // the value is in the next block
+      at.push_back(static_cast<std::streamoff>(k + key.size()));
+      from = k + key.size() + 8;
+    }
+  }
+  if (at.size() != us.size()) throw std::runtime_error("the stack's headers lack their reserved exposures");
+  f.clear();
+  for (std::size_t i = 0; i < us.size(); ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &us[i], sizeof bits);
+    char le[8];
+    for (int b = 0; b < 8; ++b) le[b] = static_cast<char>((bits >> (8 * b)) & 0xff);
+    f.seekp(at[i]);
+    f.write(le, 8);
+  }
+  f.flush();
+  if (!f) throw std::runtime_error("cannot write the stack's exposures");
+}
 
 Imf::Compression compression_of(const std::string& name) {
   if (name == "none") return Imf::NO_COMPRESSION;
@@ -134,6 +192,8 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   put<Imf::StringAttribute>(h, "skypol:camera", sh.camera_description);
   put<Imf::StringAttribute>(h, "skypol:scene", sh.scene_text);
   if (half) put<Imf::DoubleAttribute>(h, "skypol:halfClamp", static_cast<double>(kHalfMax));
+  // Reserved: the value is written when the part's frame is (fill_exposures).
+  if (sh.exposures) put<Imf::DoubleAttribute>(h, kExposure, 0.0);
   // A writer's own attributes may neither leave the skypol: namespace nor replace one of the above.
   const auto add = [&h](const std::pair<std::string, std::string>& a) {
     if (a.first.rfind("skypol:", 0) != 0 || h.find(a.first) != h.end()) {
@@ -281,8 +341,10 @@ Imf::FrameBuffer slices(const Frame& frame, int y0, const std::vector<std::strin
 
 // Part i's pixels from `frame` into the open file.
 void write_part(Imf::MultiPartOutputFile& file, std::size_t i, const Frame& frame, const std::vector<std::string>& channels,
-                int width, int height, const WriteOptions& options, std::vector<std::vector<Imath::half>>& half_buffers) {
+                int width, int height, const WriteOptions& options, std::vector<std::vector<Imath::half>>& half_buffers,
+                Exposures& exposures) {
   if (frame.height != height) throw std::logic_error("frame has the wrong height");
+  exposures.note(i, frame);
   Imf::OutputPart part(file, static_cast<int>(i));
   part.setFrameBuffer(slices(frame, 0, channels, width, options, half_buffers));
   part.writePixels(height);
@@ -323,7 +385,8 @@ class ExrPoolForWrite {
 // removed on any error, which is rethrown as a SceneError naming path.
 void write_to_temporary(const std::string& path, const std::vector<scene::Truth>& truths,
                         const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
-                        const WriteOptions& options, const std::function<void(Imf::MultiPartOutputFile&)>& write_parts) {
+                        const WriteOptions& options,
+                        const std::function<void(Imf::MultiPartOutputFile&, Exposures&)>& write_parts) {
   use_all_cores_for_exr();
   namespace fs = std::filesystem;
   const fs::path target(path);
@@ -336,14 +399,16 @@ void write_to_temporary(const std::string& path, const std::vector<scene::Truth>
     headers.reserve(truths.size());
     for (std::size_t i = 0; i < truths.size(); ++i)
       headers.push_back(part_header(truths[i], channels, width, height, header, options, i));
+    Exposures exposures{header.exposures, std::vector<double>(truths.size(), 0.0)};
     const ExrPoolForWrite pool(options.compression);
     BackgroundFileStream out(tmp);
     {
       Imf::MultiPartOutputFile file(out, headers.data(), static_cast<int>(headers.size()), false,
                                     Imf::globalThreadCount());
-      write_parts(file);
+      write_parts(file, exposures);
     }
     out.finish();  // every byte in the file, or the write's error
+    if (exposures.wanted) fill_exposures(tmp, exposures.us);
     fs::rename(tmp, target);
   } catch (const scene::SceneError&) {
     fs::remove(tmp, ec);
@@ -362,10 +427,11 @@ void write_to_temporary(const std::string& path, const std::vector<scene::Truth>
 void write_stack_reusing(const std::string& path, const std::vector<scene::Truth>& truths,
                          const std::vector<std::string>& channels, int width, int height, const StackHeader& header,
                          const WriteOptions& options, const std::function<const Frame&(std::size_t)>& produce) {
-  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file) {
+  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file, Exposures& exposures) {
     // Half conversions reuse their buffers from part to part, like the caller's frame.
     std::vector<std::vector<Imath::half>> half_buffers(channels.size());
-    for (std::size_t i = 0; i < truths.size(); ++i) write_part(file, i, produce(i), channels, width, height, options, half_buffers);
+    for (std::size_t i = 0; i < truths.size(); ++i)
+      write_part(file, i, produce(i), channels, width, height, options, half_buffers, exposures);
   });
 }
 
@@ -374,7 +440,8 @@ double write_stack_overlapped(const std::string& path, const std::vector<scene::
                             const WriteOptions& options, std::array<Frame, 2>& frames,
                             const std::function<void(std::size_t, Frame&)>& fill) {
   double writing_s = 0;
-  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file) {
+  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file,
+                                                                                Exposures& exposures) {
     std::vector<std::vector<Imath::half>> half_buffers(channels.size());
     const std::size_t parts = truths.size();
     if (parts == 0) return;
@@ -386,7 +453,7 @@ double write_stack_overlapped(const std::string& path, const std::vector<scene::
       if (i + 1 < parts) next = std::async(std::launch::async, [&, i] { fill(i + 1, frames[(i + 1) % 2]); });
       try {
         const auto t0 = std::chrono::steady_clock::now();
-        write_part(file, i, frames[i % 2], channels, width, height, options, half_buffers);
+        write_part(file, i, frames[i % 2], channels, width, height, options, half_buffers, exposures);
         writing_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       } catch (...) {
         if (next.valid()) next.wait();  // never leave the thread writing into a frame being unwound
@@ -404,7 +471,8 @@ double write_stack_banded(const std::string& path, const std::vector<scene::Trut
                           const std::function<void(std::size_t, int, int, Frame&)>& fill) {
   if (band_rows < 1) throw std::invalid_argument("write_stack_banded: band_rows must be >= 1");
   double writing_s = 0;
-  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file) {
+  write_to_temporary(path, truths, channels, width, height, header, options, [&](Imf::MultiPartOutputFile& file,
+                                                                                Exposures& exposures) {
     std::vector<std::vector<Imath::half>> half_buffers(channels.size());
     const std::size_t per_part = static_cast<std::size_t>((height + band_rows - 1) / band_rows);
     const std::size_t jobs = truths.size() * per_part;
@@ -470,7 +538,10 @@ double write_stack_banded(const std::string& path, const std::vector<scene::Trut
         // Band j + 1 fills the other buffer meanwhile; band j is written from this one.
         const auto t0 = std::chrono::steady_clock::now();
         const auto [y0, y1] = rows_of(j);
-        if (y0 == 0) part = std::make_unique<Imf::OutputPart>(file, static_cast<int>(j / per_part));
+        if (y0 == 0) {
+          part = std::make_unique<Imf::OutputPart>(file, static_cast<int>(j / per_part));
+          exposures.note(j / per_part, bands[j % 2]);
+        }
         part->setFrameBuffer(slices(bands[j % 2], y0, channels, width, options, half_buffers));
         part->writePixels(y1 - y0);
         writing_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -503,6 +574,13 @@ Stack read_stack(const std::string& path, const std::vector<std::string>& only_c
       const Imf::Header& h = file.header(i);
       Frame frame;
       frame.truth = read_truth(h, path, i);
+      if (const auto* e = h.findTypedAttribute<Imf::DoubleAttribute>(kExposure)) {
+        if (!(std::isfinite(e->value()) && e->value() > 0)) {
+          throw scene::SceneError(scene::FileLoc{path, 0, 0}, "part " + std::to_string(i) + "'s '" + kExposure +
+                                                                   "' is not a positive exposure");
+        }
+        frame.exposure_us = e->value();
+      }
       const Imath::Box2i dw = h.dataWindow();
       frame.width = dw.max.x - dw.min.x + 1;
       frame.height = dw.max.y - dw.min.y + 1;
@@ -581,6 +659,21 @@ std::string describe_stack(const std::string& path) {
     os << "\ncamera:\n" << need<Imf::StringAttribute>(h0, "skypol:camera", path, 0).value();
     const Known known = known_of(h0);
     char line[512];
+    // A sensor's exposures: one line for the whole stack, the range when the meter set them.
+    if (h0.findTypedAttribute<Imf::DoubleAttribute>(kExposure)) {
+      double lo = 0, hi = 0;
+      for (int i = 0; i < file.parts(); ++i) {
+        const double e = need<Imf::DoubleAttribute>(file.header(i), kExposure, path, i).value();
+        lo = i == 0 ? e : std::min(lo, e);
+        hi = i == 0 ? e : std::max(hi, e);
+      }
+      if (lo == hi) {
+        std::snprintf(line, sizeof line, "exposure: %.6g us, every frame\n", lo);
+      } else {
+        std::snprintf(line, sizeof line, "exposure: %.6g to %.6g us (per frame: skypol:exposureUs)\n", lo, hi);
+      }
+      os << line;
+    }
     if (!known.truth) {
       // A capture: times and, when given, the site and the sun; the heading is what it is for.
       os << "truth: unknown (an imported capture: heading and pole are for the estimators to find"

@@ -32,6 +32,11 @@ struct StackHeader {
   // an imported database's source of truth and each frame's weather label (docs/import.md).
   std::vector<std::pair<std::string, std::string>> attributes;
   std::vector<std::vector<std::pair<std::string, std::string>>> part_attributes;
+  // Frames through a sensor: every part carries skypol:exposureUs, the Frame::exposure_us of the
+  // frame written into it (which must have one). Parts' headers precede every pixel in the file,
+  // and a metered exposure is known only once its frame is rendered, so the writer reserves the
+  // attribute and fills in each part's value when the file is complete.
+  bool exposures = false;
 };
 
 // Defaults: the renders' (scene/output_defaults.h), so every writer of stacks agrees by default.

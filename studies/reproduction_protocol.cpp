@@ -65,13 +65,13 @@ std::vector<ProtocolRow> run_protocol(
     if (!spec.day_times.empty()) {
       const stack::Stack ideal = render::record_stack(setup, spec.day_times);
       run_methods(spec, ideal, "day", false, setup.heading_deg, rows);
-      run_methods(spec, render::through_sensor(ideal, sensor), "day", true, setup.heading_deg, rows);
+      run_methods(spec, render::through_sensor(ideal, sensor, spec.auto_exposure), "day", true, setup.heading_deg, rows);
     }
     if (!spec.window_frames.empty()) {
       // A different seed from the day's: the window's frames are other exposures.
       sensor.seed = spec.seed + 1000 + h;
       const stack::Stack noisy =
-          render::through_sensor(render::record_stack(setup, spec.window_times), sensor);
+          render::through_sensor(render::record_stack(setup, spec.window_times), sensor, spec.auto_exposure);
       for (int k : spec.window_frames)
         run_methods(spec, first_frames(noisy, k), "window", true, setup.heading_deg, rows);
     }

@@ -27,6 +27,8 @@ struct ProtocolSpec {
   std::vector<sky::Instant> window_times;    // windows: prefixes, through the sensor only
   std::vector<int> window_frames;            // prefix lengths (each ≥ 3, ≤ window_times.size())
   camera::DofpSensor sensor;                 // width/height taken from the lens
+  // Each sensor frame metered instead of taken at sensor.exposure_us (render::through_sensor).
+  std::optional<camera::AutoExposure> auto_exposure;
   std::uint64_t seed = 1;
 };
 

@@ -379,3 +379,70 @@ TEST_CASE("clipped pixels: the demosaic's whole footprint of every raw value at 
     }
   }
 }
+
+TEST_CASE("the meter's percentile interpolates between ranks as NumPy's default does", "[sensor][exposure]") {
+  // 1 … 101 shuffled: rank 0.995·100 = 99.5 lies halfway between 100 and 101.
+  std::vector<float> v;
+  for (int i = 101; i >= 1; --i) v.push_back(static_cast<float>(i));
+  std::rotate(v.begin(), v.begin() + 37, v.end());
+  CHECK(percentile_of(v, 99.5) == Approx(100.5));
+  CHECK(percentile_of(v, 100) == 101);
+  CHECK(percentile_of(v, 50) == 51);
+  std::vector<float> ties(10, 3.0f);
+  CHECK(percentile_of(ties, 99.5) == 3);
+  std::vector<float> one{7.0f};
+  CHECK(percentile_of(one, 99.5) == 7);
+  CHECK(percentile_of(std::span<float>(), 99.5) == 0);
+}
+
+TEST_CASE("metered exposure: target × full scale at the percentile, in steps, within the range", "[sensor][exposure]") {
+  DofpSensor s = clean();  // 4e6 e-/s per unit radiance
+  s.full_well_e = 10000;
+  s.adc_bits = 16;  // the ADC's top (65535 e- at 1 DN/e) lies beyond the well
+  AutoExposure m;   // 99.5th percentile at 80 %
+  CHECK(full_scale_e(s) == 10000);
+  // S0 = 0.5 at the percentile: 8000 e- in t = 8000 / (4e6 · 0.5) s = 4000 µs.
+  CHECK(metered_exposure_us(s, m, 0.5) == Approx(4000).epsilon(1e-12));
+  m.step_us = 300;  // whole steps, rounded down so the percentile never passes the target: 3900 µs
+  CHECK(metered_exposure_us(s, m, 0.5) == Approx(3900).epsilon(1e-12));
+  m.step_us = 0;
+  m.min_us = 5000;
+  CHECK(metered_exposure_us(s, m, 0.5) == 5000);  // brighter than the camera can expose for
+  m.min_us = 1;
+  m.max_us = 2000;
+  CHECK(metered_exposure_us(s, m, 0.5) == 2000);  // too dark for its longest exposure
+  CHECK(metered_exposure_us(s, m, 0.0) == 2000);  // no light at all: the longest
+  CHECK(metered_exposure_us(s, m, std::nan("")) == 2000);
+  // An ADC that tops out before the well: its top is the full scale. 12 bits at 0.5 DN/e with a
+  // black level of 95 DN read out (4095 − 95) / 0.5 = 8000 e-.
+  s.adc_bits = 12;
+  s.gain_dn_per_e = 0.5;
+  s.black_level_dn = 95;
+  CHECK(full_scale_e(s) == Approx(8000));
+  m = AutoExposure{};
+  CHECK(metered_exposure_us(s, m, 0.5) == Approx(0.8 * 8000 / (4e6 * 0.5) * 1e6));
+}
+
+TEST_CASE("bad meter settings are named", "[sensor][exposure]") {
+  auto message = [](AutoExposure m) -> std::string {
+    try {
+      validate(m);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "valid";
+  };
+  CHECK(message(AutoExposure{}) == "valid");
+  AutoExposure m;
+  m.percentile = 0;
+  CHECK_THAT(message(m), Catch::StartsWith("percentile"));
+  m = {};
+  m.target = 1.2;
+  CHECK_THAT(message(m), Catch::StartsWith("target"));
+  m = {};
+  m.max_us = 0.5;  // below min_us = 1
+  CHECK_THAT(message(m), Catch::StartsWith("max_us"));
+  m = {};
+  m.step_us = -1;
+  CHECK_THAT(message(m), Catch::StartsWith("step_us"));
+}

@@ -2,12 +2,17 @@
 // DoFP sensor gives back the renderer's DoLP and AoLP (through the mosaic and the demosaic).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <optional>
+#include <vector>
 
 #include "camera/intrinsics.h"
 #include "camera/radial_lens.h"
 #include "render/recorded_stack.h"
+#include "render/sensor_stage.h"
 
 using namespace skypol;
 
@@ -78,4 +83,31 @@ TEST_CASE("a noise-free DoFP sensor returns the renderer's DoLP and AoLP", "[ren
   CHECK(worst_dolp < 0.03);
   CHECK(worst_aolp < 3 * std::numbers::pi / 180);
   CHECK_FALSE(got.frames[0].has("S0.Y"));
+}
+
+TEST_CASE("through_sensor auto-exposes each frame when asked, on the sky above its camera's horizon", "[render][recorded_stack][exposure]") {
+  const stack::Stack ideal = render::record_stack(
+      setup(), {sky::parse_iso8601("2022-09-23T07:00:00Z"), sky::parse_iso8601("2022-09-23T11:00:00Z")});
+  camera::DofpSensor s;
+  s.exposure_us = 700;
+  const stack::Stack fixed = render::through_sensor(ideal, s);
+  for (const stack::Frame& f : fixed.frames) CHECK(f.exposure_us == std::optional<double>(700));
+  const stack::Stack metered = render::through_sensor(ideal, s, camera::AutoExposure{});
+  // What the sensor stage's meter reads on the ideal frames: the sky the 92.5° lens sees above the
+  // horizon (its outer 2.5° look at the ground).
+  scene::SensorSpec spec;
+  spec.dofp = s;
+  spec.dofp.width = spec.dofp.height = 96;
+  spec.auto_exposure = camera::AutoExposure{};
+  const std::vector<std::uint8_t> sky = render::sky_pixels(*ideal.camera);
+  CHECK(std::count(sky.begin(), sky.end(), 1) <
+        std::count_if(ideal.frames[0].channel("mask").begin(), ideal.frames[0].channel("mask").end(), [](float m) { return m > 0; }));
+  for (std::size_t i = 0; i < 2; ++i) {
+    REQUIRE(metered.frames[i].exposure_us);
+    CHECK(*metered.frames[i].exposure_us == render::meter_exposure_us(spec, {"Y"}, ideal.frames[i], sky));
+    CHECK(*metered.frames[i].exposure_us != 700);
+  }
+  camera::AutoExposure bad;
+  bad.target = 2;
+  CHECK_THROWS_AS(render::through_sensor(ideal, s, bad), std::invalid_argument);
 }

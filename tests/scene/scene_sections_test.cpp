@@ -172,6 +172,45 @@ TEST_CASE("sensor keys: a preset, overrides, and the errors of a sensor that can
              Catch::Contains("sensor.preset") && Catch::Contains("sony_imx250mzr"));
 }
 
+TEST_CASE("exposure: fixed by default, \"auto\" with the meter's keys; errors at file:line and key", "[scene][sensor][errors]") {
+  const std::string cam = "[camera]\nfx = 20\nwidth = 64\nheight = 48\n";
+  // kHead and cam take lines 1-11; [sensor] is line 12, its first key line 13.
+  const auto fixed = parse_scene(kHead + cam + "[sensor]\nexposure_us = 250\n", "fixed.toml");
+  REQUIRE(fixed.sensor);
+  CHECK_FALSE(fixed.sensor->auto_exposure);
+  CHECK(fixed.sensor->dofp.exposure_us == 250);
+  const auto def = parse_scene(kHead + cam + "[sensor]\nexposure = \"auto\"\n", "auto.toml");
+  REQUIRE(def.sensor->auto_exposure);
+  CHECK(def.sensor->auto_exposure->percentile == 99.5);  // the reproduction protocol's meter
+  CHECK(def.sensor->auto_exposure->target == 0.8);
+  CHECK(def.sensor->auto_exposure->step_us == 0);
+  const auto set = parse_scene(kHead + cam +
+                                   "[sensor]\nexposure = \"auto\"\nauto_exposure_percentile = 99\nauto_exposure_target = 0.5\n"
+                                   "auto_exposure_min_us = 20\nauto_exposure_max_us = 5e5\nauto_exposure_step_us = 10\n",
+                               "set.toml");
+  const camera::AutoExposure& m = *set.sensor->auto_exposure;
+  CHECK((m.percentile == 99 && m.target == 0.5 && m.min_us == 20 && m.max_us == 5e5 && m.step_us == 10));
+
+  const std::string head = kHead + cam + "[sensor]\n";
+  CHECK_THAT(error_of(head + "exposure = \"automatic\"\n"),
+             Catch::StartsWith("bad.toml:13:") && Catch::Contains("sensor.exposure") && Catch::Contains("auto"));
+  CHECK_THAT(error_of(head + "exposure = \"auto\"\nauto_exposure_target = 1.5\n"),
+             Catch::StartsWith("bad.toml:14:") && Catch::Contains("sensor.auto_exposure_target") && Catch::Contains("[0, 1]"));
+  CHECK_THAT(error_of(head + "exposure = \"auto\"\nauto_exposure_target = 0\n"),
+             Catch::StartsWith("bad.toml:14:") && Catch::Contains("sensor.auto_exposure_target") && Catch::Contains("(0, 1]"));
+  CHECK_THAT(error_of(head + "exposure = \"auto\"\nauto_exposure_percentile = 0\n"),
+             Catch::StartsWith("bad.toml:14:") && Catch::Contains("sensor.auto_exposure_percentile"));
+  // A meter key without the meter, and a fixed exposure beside it, would be silently ignored.
+  CHECK_THAT(error_of(head + "auto_exposure_target = 0.5\n"),
+             Catch::StartsWith("bad.toml:13:") && Catch::Contains("sensor.auto_exposure_target") &&
+                 Catch::Contains("exposure = \"auto\""));
+  CHECK_THAT(error_of(head + "exposure = \"auto\"\nexposure_us = 500\n"),
+             Catch::StartsWith("bad.toml:14:") && Catch::Contains("sensor.exposure_us"));
+  CHECK_THAT(error_of(head + "exposure = \"auto\"\nauto_exposure_min_us = 2e7\n"),
+             Catch::StartsWith("bad.toml:14:") && Catch::Contains("sensor.auto_exposure_min_us") &&
+                 Catch::Contains("range is empty"));
+}
+
 TEST_CASE("a scene of night frames only is refused, naming its time key", "[scene][errors]") {
   // Marseille at 22:00–23:00 UTC in September: the sun is far below the horizon.
   const std::string e = error_of(R"([site]

@@ -150,3 +150,23 @@ TEST_CASE("the hard-case scenes are the cases they claim", "[scenes]") {
     CHECK(s.camera.description == load_scene(scene_path("skypole-marseille.toml")).camera.description);
   }
 }
+
+TEST_CASE("skypole-marseille-vrte-dofp is the VRTE scene through the auto-exposed colour sensor", "[scenes]") {
+  const scene::Scene s = load_scene(scene_path("skypole-marseille-vrte-dofp.toml"));
+  const scene::Scene vrte = load_scene(scene_path("skypole-marseille-vrte.toml"));
+  const scene::Scene dofp = load_scene(scene_path("skypole-marseille-dofp.toml"));
+  CHECK(s.camera.description == vrte.camera.description);
+  CHECK(s.times.size() == vrte.times.size());
+  CHECK(s.sky.model == "vrte");
+  CHECK(s.render.bands == std::vector<std::string>{"R", "G", "B"});
+  REQUIRE(s.sensor);
+  REQUIRE(dofp.sensor);
+  CHECK(s.sensor->dofp.color_filter == dofp.sensor->dofp.color_filter);
+  CHECK(s.sensor->dofp.full_well_e == dofp.sensor->dofp.full_well_e);
+  // Metered, at the meter's defaults: nothing scaled by hand.
+  REQUIRE(s.sensor->auto_exposure);
+  CHECK(s.sensor->auto_exposure->percentile == 99.5);
+  CHECK(s.sensor->auto_exposure->target == 0.8);
+  CHECK(s.sensor->dofp.electrons_per_radiance_s == dofp.sensor->dofp.electrons_per_radiance_s);
+  CHECK_FALSE(dofp.sensor->auto_exposure);
+}
