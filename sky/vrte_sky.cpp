@@ -293,7 +293,8 @@ std::shared_ptr<const VrteSky::SunPlan> VrteSky::plan(const Sun& sun) const {
   // Under the lock, so that threads rendering the same frame wait for one plan instead of each
   // making its own.
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (last_ && last_->sun == sun.direction) return last_;
+  for (const auto& kept : plans_)
+    if (kept && kept->sun == sun.direction) return kept;
   auto p = std::make_shared<SunPlan>();
   p->sun = sun.direction;
   const Eigen::Vector3d& s = sun.direction;
@@ -325,8 +326,10 @@ std::shared_ptr<const VrteSky::SunPlan> VrteSky::plan(const Sun& sun) const {
                  t.grid(),                  kPhaseNodes,               kFactorSteps,
                  a.ms.data(),               a.factor.data(),           phase_.data()};
   }
-  last_ = std::move(p);
-  return last_;
+  std::shared_ptr<const SunPlan>& slot = plans_[next_plan_];
+  next_plan_ = (next_plan_ + 1) % plans_.size();
+  slot = std::move(p);
+  return slot;
 }
 
 Stokes VrteSky::stokes(const Eigen::Vector3d& d, const Eigen::Vector3d& e0, const Sun& sun) const {

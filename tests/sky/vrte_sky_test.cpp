@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <random>
@@ -261,6 +262,16 @@ TEST_CASE("The batch path (one plan per sun, float) agrees with the scalar path 
     const PathDifference d = batch_against_scalar(hazy, *sun, rays);
     CHECK(d.s0 < 2e-5);
     CHECK(d.p < 2e-6);
+  }
+  // A ray of NaNs (a renderer's unseen pixel, say) reads inside the plan and gives a finite 0.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<ViewRay> bad{{{nan, nan, nan}, {nan, nan, nan}}, {{nan, 0.0f, 1.0f}, {1.0f, 0.0f, nan}}};
+  std::vector<StokesF> bad_out(bad.size());
+  hazy.stokes(bad, a, bad_out);
+  for (const StokesF& r : bad_out) {
+    CHECK(r.s0 == 0.0f);
+    CHECK(r.s1 == 0.0f);
+    CHECK(r.s2 == 0.0f);
   }
   // A sun below the horizon lights nothing, in both paths.
   const auto night = batch_and_scalar(hazy, rays, sun_at(0.0, -2.0));
