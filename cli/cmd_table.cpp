@@ -25,7 +25,7 @@ void add_table(CLI::App& app) {
   struct Args {
     std::vector<double> tau, albedo{0.0}, mu0, mu, dphi{0.0};
     double depolarization = 0.0;
-    int streams = 16;
+    int streams = 32;
     bool json = false;
   };
   auto a = std::make_shared<Args>();
@@ -39,7 +39,7 @@ void add_table(CLI::App& app) {
                     "View azimuth minus sun azimuth, degrees (0: looking towards the sun's side), default 0");
   table->add_option("--depolarization", a->depolarization, "Molecular depolarization factor rho_n, default 0")
       ->check(CLI::Range(0.0, 0.5));
-  table->add_option("--streams", a->streams, "Gauss nodes per hemisphere (accuracy), default 16")
+  table->add_option("--streams", a->streams, "Gauss nodes per hemisphere (accuracy), default 32")
       ->check(CLI::Range(4, 64));
   table->add_flag("--json", a->json, "Print one JSON object");
   table->callback([a] {

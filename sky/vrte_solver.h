@@ -17,11 +17,14 @@ namespace skypol::sky::vrte {
 // The accuracy knob is `streams`: N Gauss–Legendre nodes per hemisphere (2N streams). The aerosol
 // is delta-M truncated at l = 2N − 1 and the azimuth series then has 2N terms; Rayleigh alone
 // needs three (m = 0, 1, 2) whatever N. `initial_tau` bounds the thickness where doubling starts
-// from single scattering (the error of that start is ∝ its thickness).
+// (from a layer correct to second order in it: the error of that start is ∝ its thickness squared).
 struct SolverOptions {
   int streams = 8;                   // N ≥ 2
   int max_fourier = -1;              // highest m kept; −1: all the phase matrix has
-  double initial_tau = 1e-6;         // doubling starts at τ/2^k ≤ this (error ≈ 2·this in I/F·π)
+  double initial_tau = 1e-6;         // doubling starts at τ/2^k ≤ this
+  // The start: true, a layer correct to second order in its depth (error ∝ τ·initial_tau²);
+  // false, single scattering alone (a low bias ∝ τ·initial_tau: ~1e-5 of I at 1e-6; tests).
+  bool second_order_start = true;
   bool symmetric_doubling = true;    // light from below as the mirror image (false: computed; tests)
   int threads = 0;                   // 0: std::thread::hardware_concurrency()
   bool keep_gauss_matrices = false;  // keep the Gauss-node blocks (tests: reciprocity)
@@ -77,6 +80,10 @@ struct StokesIQU {
 };
 StokesIQU single_scattering(const ScaledLayer& layer, double mu, double mu0, double dphi, bool up);
 StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double dphi, bool up);
+// The geometric factor of that single scattering: StokesIQU = ωF(Θ)'s first column (rotated into the
+// meridian basis) times this, i.e. μ0/(μ + μ0)·(1 − e^{−τ/μ − τ/μ0})/4π up and
+// μ0(e^{−τ/μ} − e^{−τ/μ0})/(μ − μ0)/4π down.
+double single_scattering_factor(double tau, double mu, double mu0, bool up);
 // The same with cos Δφ and sin Δφ given (a unit pair), as the per-pixel path has them.
 StokesIQU single_scattering(const ExactLayer& layer, double mu, double mu0, double cos_dphi, double sin_dphi, bool up);
 

@@ -19,7 +19,8 @@ namespace skypol::sky::vrte {
 
 namespace {
 
-constexpr std::uint32_t kFormatVersion = 1;
+// 2: the solver's doubling starts from a layer correct to second order (values moved by ~1e-5).
+constexpr std::uint32_t kFormatVersion = 2;
 constexpr char kMagic[8] = {'S', 'K', 'Y', 'V', 'R', 'T', 'E', '\0'};
 
 std::uint64_t fnv1a(const char* p, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
@@ -38,13 +39,6 @@ void put_vec(std::string& s, const std::vector<double>& v) {
   put(s, static_cast<std::uint64_t>(v.size()));
   s.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
 }
-
-// The grid variable v ∈ [0, 1]: μ = sin(πv²/2), i.e. zenith angle θ = (π/2)(1 − v²). Near the
-// horizon μ ≈ πv²/2, so nodes crowd where the sky changes fastest (μ ~ τ); near the zenith θ is
-// linear in v, so the Fourier coefficients, which go as sin^m θ, stay smooth (in μ or √μ they have
-// a square-root branch at μ = 1).
-double grid_v(double mu) { return std::sqrt(2.0 * std::asin(std::clamp(mu, 0.0, 1.0)) / std::numbers::pi); }
-double grid_mu(double v) { return std::sin(0.5 * std::numbers::pi * v * v); }
 
 // Four-point Lagrange interpolation on the uniform v grid, the stencil kept inside the grid.
 struct Stencil {
@@ -70,6 +64,13 @@ void check_options(const TableOptions& o) {
 }
 
 }  // namespace
+
+// The grid variable v ∈ [0, 1]: μ = sin(πv²/2), i.e. zenith angle θ = (π/2)(1 − v²). Near the
+// horizon μ ≈ πv²/2, so nodes crowd where the sky changes fastest (μ ~ τ); near the zenith θ is
+// linear in v, so the Fourier coefficients, which go as sin^m θ, stay smooth (in μ or √μ they have
+// a square-root branch at μ = 1).
+double grid_v(double mu) { return std::sqrt(2.0 * std::asin(std::clamp(mu, 0.0, 1.0)) / std::numbers::pi); }
+double grid_mu(double v) { return std::sin(0.5 * std::numbers::pi * v * v); }
 
 std::string VrteTable::cache_key(const LayerOptics& o, double albedo, const TableOptions& opt) {
   std::string k = "skypol-vrte-table";

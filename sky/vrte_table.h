@@ -28,6 +28,11 @@ struct TableOptions {
   int threads = 0;  // 0: all cores
 };
 
+// The table's grid variable: node k of `grid` sits at v = k/(grid − 1), μ = grid_mu(v) =
+// sin(πv²/2); grid_v is its inverse on [0, 1] (μ clamped).
+double grid_v(double mu);
+double grid_mu(double v);
+
 // What the table answers: radiance per unit extraterrestrial solar irradiance (I/F, sr⁻¹), in the
 // meridian basis of the direction the observer looks (FourierSolution's convention), without the
 // direct sun. The single scattering of the direct beam is computed exactly per query with the

@@ -23,18 +23,21 @@ struct Entry {
   std::array<double, 3> iqu;
 };
 
+// At the default streams (32) every published value below is matched within 1e-6.
+constexpr double kMargin = 1e-6;
+
 void check_reflected(double albedo, const std::array<Entry, 6>& table) {
   for (const Entry& e : table) {
     const auto r = coulson_point(0.5, albedo, 0.0, 0.2, e.mu, e.dphi_deg);
     INFO("albedo " << albedo << " mu " << e.mu << " dphi " << e.dphi_deg);
-    CHECK(r.top_up.i == Approx(e.iqu[0]).margin(1e-5));
-    CHECK(r.top_up.q == Approx(e.iqu[1]).margin(1e-5));
-    CHECK(r.top_up.u == Approx(e.iqu[2]).margin(1e-5));
+    CHECK(r.top_up.i == Approx(e.iqu[0]).margin(kMargin));
+    CHECK(r.top_up.q == Approx(e.iqu[1]).margin(kMargin));
+    CHECK(r.top_up.u == Approx(e.iqu[2]).margin(kMargin));
   }
 }
 }  // namespace
 
-TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0, reflected: the issue's twelve values within 1e-5",
+TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0, reflected: the issue's twelve values within 1e-6",
           "[vrte][coulson]") {
   check_reflected(0.0, {{{0.02, 0, {0.44129802, -0.01753141, 0}},
                          {0.02, 60, {0.30091208, -0.15965601, 0.07365528}},
@@ -58,21 +61,34 @@ TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0.8, reflected (SASKTRAN2 le
 TEST_CASE("Coulson tables, tau 0.5, mu0 0.2, albedo 0, reflected at other azimuths (SASKTRAN2 docs' values)",
           "[vrte][coulson]") {
   const auto a = coulson_point(0.5, 0.0, 0.0, 0.2, 0.02, 30.0);
-  CHECK(a.top_up.i == Approx(0.39444956).margin(1e-5));
-  CHECK(a.top_up.q == Approx(-0.06485313).margin(1e-5));
-  CHECK(a.top_up.u == Approx(0.04390364).margin(1e-5));
+  CHECK(a.top_up.i == Approx(0.39444956).margin(kMargin));
+  CHECK(a.top_up.q == Approx(-0.06485313).margin(kMargin));
+  CHECK(a.top_up.u == Approx(0.04390364).margin(kMargin));
   const auto b = coulson_point(0.5, 0.0, 0.0, 0.2, 0.92, 60.0);
-  CHECK(b.top_up.i == Approx(0.05643322).margin(1e-5));
-  CHECK(b.top_up.q == Approx(-0.01979730).margin(1e-5));
-  CHECK(b.top_up.u == Approx(0.03822653).margin(1e-5));
+  CHECK(b.top_up.i == Approx(0.05643322).margin(kMargin));
+  CHECK(b.top_up.q == Approx(-0.01979730).margin(kMargin));
+  CHECK(b.top_up.u == Approx(0.03822653).margin(kMargin));
 }
 
-TEST_CASE("Fewer streams stay within the issue's 1e-4 at the default of the renderer's tables (12)",
+TEST_CASE("Fewer streams: the renderer's default (12) and 16 stay within their Gauss sums' error",
           "[vrte][coulson]") {
+  // At μ = 0.02 the error is the quadrature's (the view is 0.02 from the horizon): 2.0e-5 with 12
+  // streams, 1.9e-6 with 16; at μ = 0.4 below 5e-8 with either.
   const auto r = coulson_point(0.5, 0.0, 0.0, 0.2, 0.02, 60.0, 12);
-  CHECK(r.top_up.i == Approx(0.30091208).margin(1e-4));
-  CHECK(r.top_up.q == Approx(-0.15965601).margin(1e-4));
-  CHECK(r.top_up.u == Approx(0.07365528).margin(1e-4));
+  CHECK(r.top_up.i == Approx(0.30091208).margin(2.5e-5));
+  CHECK(r.top_up.q == Approx(-0.15965601).margin(2.5e-5));
+  CHECK(r.top_up.u == Approx(0.07365528).margin(2.5e-5));
+  const auto s16 = coulson_point(0.5, 0.0, 0.0, 0.2, 0.02, 60.0, 16);
+  CHECK(s16.top_up.i == Approx(0.30091208).margin(2.5e-6));
+  CHECK(s16.top_up.q == Approx(-0.15965601).margin(2.5e-6));
+  CHECK(s16.top_up.u == Approx(0.07365528).margin(2.5e-6));
+  for (int streams : {12, 16}) {
+    const auto m = coulson_point(0.5, 0.0, 0.0, 0.2, 0.4, 60.0, streams);
+    INFO("streams " << streams);
+    CHECK(m.top_up.i == Approx(0.12752450).margin(1e-7));
+    CHECK(m.top_up.q == Approx(-0.06066038).margin(1e-7));
+    CHECK(m.top_up.u == Approx(0.05293867).margin(1e-7));
+  }
 }
 
 TEST_CASE("The aerosol path reproduces the tables when the aerosol scatters like molecules", "[vrte][coulson]") {
@@ -91,18 +107,18 @@ TEST_CASE("The aerosol path reproduces the tables when the aerosol scatters like
     o.aerosol.f33.push_back(1.5 * x);
     o.aerosol.f34.push_back(0.0);
     o.aerosol.f44.push_back(1.5 * x);
-  }  // no weights: read as piecewise linear in cos Θ (its error sets the margin)
-  const auto r = coulson_point(o, 0.0, 0.2, 0.02, 60.0);
+  }  // no weights: read as piecewise linear in cos Θ (its error sets the margin; 16 streams)
+  const auto r = coulson_point(o, 0.0, 0.2, 0.02, 60.0, 16);
   CHECK(r.top_up.i == Approx(0.30091208).margin(2e-4));
   CHECK(r.top_up.q == Approx(-0.15965601).margin(2e-4));
   CHECK(r.top_up.u == Approx(0.07365528).margin(2e-4));
-  const auto z = coulson_point(o, 0.0, 0.2, 1.0, 60.0);
+  const auto z = coulson_point(o, 0.0, 0.2, 1.0, 60.0, 16);
   CHECK(z.top_up.i == Approx(0.05300496).margin(2e-4));
   CHECK(z.top_up.q == Approx(-0.01877930).margin(2e-4));
   CHECK(z.top_up.u == Approx(0.03252669).margin(2e-4));
 }
 
-TEST_CASE("A Rayleigh-like aerosol tabulated with Gauss weights reproduces the tables to 1e-5", "[vrte][coulson]") {
+TEST_CASE("A Rayleigh-like aerosol tabulated with Gauss weights reproduces the tables to 1e-6", "[vrte][coulson]") {
   skypol::sky::LayerOptics o;
   o.tau_rayleigh = 0.2;
   o.tau_aerosol = 0.3;
@@ -122,16 +138,16 @@ TEST_CASE("A Rayleigh-like aerosol tabulated with Gauss weights reproduces the t
     o.aerosol.f34.push_back(0.0);
     o.aerosol.f44.push_back(1.5 * x);
   }
-  const auto r = coulson_point(o, 0.0, 0.2, 0.4, 60.0);
-  CHECK(r.top_up.i == Approx(0.12752450).margin(1e-5));
-  CHECK(r.top_up.q == Approx(-0.06066038).margin(1e-5));
-  CHECK(r.top_up.u == Approx(0.05293867).margin(1e-5));
+  const auto r = coulson_point(o, 0.0, 0.2, 0.4, 60.0, 16);  // μ = 0.4: 16 streams are enough
+  CHECK(r.top_up.i == Approx(0.12752450).margin(kMargin));
+  CHECK(r.top_up.q == Approx(-0.06066038).margin(kMargin));
+  CHECK(r.top_up.u == Approx(0.05293867).margin(kMargin));
 }
 
 TEST_CASE("Natraj et al. 2009's tables, reflected and transmitted, tau 0.02 to 1, albedo 0 to 0.8: 504 entries",
           "[vrte][coulson]") {
-  // Whole tables (all τ, albedos, μ0, μ, φ of the paper) agree to 3.1e-5 with 16 streams and to
-  // 1.1e-6 with 24 and initial_tau = 1e-9 (worst at μ = 0.02); this sample is checked at 16 streams.
+  // At the default streams (32): within 1e-6 (worst at τ = 0.02, μ = 0.02, 9.3e-7); with 16 streams
+  // within 3.1e-5 at μ = 0.02 and 4e-6 elsewhere (the Gauss sums' error for grazing views).
   struct Row {
     double tau, albedo;
     int up;
@@ -147,28 +163,37 @@ TEST_CASE("Natraj et al. 2009's tables, reflected and transmitted, tau 0.02 to 1
     FAIL("value not in the grid");
     return std::size_t{0};
   };
-  double worst = 0;
+  double worst = 0, worst16 = 0, worst16_high = 0;
   std::size_t checked = 0;
   for (double tau : {0.02, 0.25, 1.0})
     for (double albedo : {0.0, 0.25, 0.8}) {
       skypol::sky::LayerOptics o;
       o.tau_rayleigh = tau;
-      const auto t = skypol::sky::vrte::coulson_table(o, albedo, mu0, mu, phi, 16);
+      const auto t = skypol::sky::vrte::coulson_table(o, albedo, mu0, mu, phi);
+      const auto t16 = skypol::sky::vrte::coulson_table(o, albedo, mu0, mu, phi, 16);
       for (const Row& r : rows) {
         if (r.tau != tau || r.albedo != albedo) continue;
-        const auto& p = t.at(index(mu0, r.mu0), index(mu, r.mu), index(phi, r.phi));
-        const auto& v = r.up ? p.top_up : p.ground_down;
+        const std::size_t i0 = index(mu0, r.mu0), i = index(mu, r.mu), k = index(phi, r.phi);
+        const auto& v = r.up ? t.at(i0, i, k).top_up : t.at(i0, i, k).ground_down;
+        const auto& v16 = r.up ? t16.at(i0, i, k).top_up : t16.at(i0, i, k).ground_down;
         INFO("tau " << tau << " albedo " << albedo << (r.up ? " up" : " down") << " mu0 " << r.mu0 << " mu " << r.mu
                     << " phi " << r.phi);
-        CHECK(v.i == Approx(r.i).margin(5e-5));
-        CHECK(v.q == Approx(r.q).margin(5e-5));
-        CHECK(v.u == Approx(r.u).margin(5e-5));
+        CHECK(v.i == Approx(r.i).margin(kMargin));
+        CHECK(v.q == Approx(r.q).margin(kMargin));
+        CHECK(v.u == Approx(r.u).margin(kMargin));
+        const double m16 = r.mu < 0.1 ? 3.5e-5 : 4e-6;
+        CHECK(v16.i == Approx(r.i).margin(m16));
+        CHECK(v16.q == Approx(r.q).margin(m16));
+        CHECK(v16.u == Approx(r.u).margin(m16));
         worst = std::max({worst, std::abs(v.i - r.i), std::abs(v.q - r.q), std::abs(v.u - r.u)});
+        double& w16 = r.mu < 0.1 ? worst16 : worst16_high;
+        w16 = std::max({w16, std::abs(v16.i - r.i), std::abs(v16.q - r.q), std::abs(v16.u - r.u)});
         ++checked;
       }
     }
   CHECK(checked == sizeof rows / sizeof rows[0]);
-  std::printf("Natraj et al. 2009 sample: %zu entries, worst |difference| %.2e\n", checked, worst);
+  std::printf("Natraj et al. 2009 sample: %zu entries, worst |difference| %.2e (16 streams: %.2e at mu 0.02, %.2e above)\n",
+              checked, worst, worst16, worst16_high);
 }
 
 TEST_CASE("Siewert 2000 problem IIA: a polarizing aerosol slab, reflected and transmitted, 154 values",
@@ -232,15 +257,28 @@ TEST_CASE("Siewert 2000 problem IIA: a polarizing aerosol slab, reflected and tr
   std::vector<double> mu;
   for (int k = 0; k <= 10; ++k) mu.push_back(k / 10.0);
   const std::vector<double> mu0{0.6}, phi{0, 90, 180};
+  // The values are printed to six significant digits: each is checked within 1e-6 beyond half a
+  // unit of its last digit, except at the horizon (μ = 0), a limit the Gauss sums approach slowly
+  // (their integrand has a logarithmic edge there): within 1e-5.
+  // 16 streams: the aerosol has 12 Greek terms (no truncation) and the views are 0.1 apart.
   const auto t = skypol::sky::vrte::coulson_table(o, 0.0, mu0, mu, phi, 16);
-  double worst = 0;
+  double worst = 0, worst_beyond = 0, worst_horizon = 0;
   for (const Row& r : rows) {
     const auto& p = t.at(0, static_cast<std::size_t>(std::lround(r.mu * 10)), static_cast<std::size_t>(r.phi / 90));
     const auto& s = r.up ? p.top_up : p.ground_down;
     const double v = r.stokes == 0 ? s.i : r.stokes == 1 ? s.q : s.u;
     INFO("stokes " << r.stokes << " phi " << r.phi << " mu " << r.mu << (r.up ? " up" : " down"));
-    CHECK(v == Approx(r.value).margin(3e-5));
+    const double half_unit = r.value == 0 ? 0 : 0.5 * std::pow(10.0, std::floor(std::log10(std::abs(r.value))) - 5);
+    if (r.mu == 0) {
+      CHECK(v == Approx(r.value).margin(1e-5));
+      worst_horizon = std::max(worst_horizon, std::abs(v - r.value));
+      continue;
+    }
+    CHECK(v == Approx(r.value).margin(kMargin + half_unit));
     worst = std::max(worst, std::abs(v - r.value));
+    worst_beyond = std::max(worst_beyond, std::abs(v - r.value) - half_unit);
   }
-  std::printf("Siewert 2000 IIA: %zu values, worst |difference| %.2e\n", sizeof rows / sizeof rows[0], worst);
+  std::printf("Siewert 2000 IIA: %zu values, worst |difference| %.2e above the horizon (%.2e beyond the rounding of"
+              " the values), %.2e at it\n",
+              sizeof rows / sizeof rows[0], worst, worst_beyond, worst_horizon);
 }
