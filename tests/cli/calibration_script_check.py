@@ -21,6 +21,8 @@ skypol, source = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(source, "scripts"))
 import calibration_tune as ct  # noqa: E402
 
+ct.skypol_methods.use(skypol)  # the traits the script reads, from the binary under test
+
 BOUND = 2.5  # the study's default --max-uncertainty (studies/tradeoff_studies.h)
 with tempfile.TemporaryDirectory() as tmp:
     env = dict(os.environ, SKYPOL_CACHE_DIR=os.path.join(tmp, "tables"))
