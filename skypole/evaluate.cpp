@@ -123,7 +123,7 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
   // capture without its site, or the ephemeris declined or outvoted), the inverse-variance mean of
   // the agreeing answers, stated with the σ of the sharpest of them: the methods read the same
   // frames, so their errors are correlated, and the mean's own σ would claim more than the data
-  // hold (docs/calibration-history.md, section 7a, compares it with the alternatives).
+  // hold (docs/calibration-history.md, "auto's rule", compares it with the alternatives).
   const auto ephemeris = std::find_if(members.begin(), members.end(), [](const PoleEstimate* b) {
     const Method* m = find_method(b->method);
     return m && m->traits.auto_answers_alone;
