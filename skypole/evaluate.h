@@ -32,9 +32,10 @@ namespace skypol::skypole {
 // Two answers agree when their angle is within 1.52 × the root-sum-square of their 95 % cones
 // (the 99.9 % level); the answer most others agree with is the centre; of the agreeing group, auto
 // returns the answer of a method whose traits say auto_answers_alone (sun_vector_ephemeris) as it
-// stands when it is a member (an average with the others is less accurate), and otherwise the inverse-variance mean of the members' poles, stated
-// with the σ of the sharpest member (the methods read the same frames, so their errors are
-// correlated and the mean's own σ would claim more than the data hold). auto declines
+// stands when it is a member (an average with the others is less accurate), and otherwise the
+// inverse-variance mean of the members' poles, stated with the σ of the sharpest member (the
+// methods read the same frames, so their errors are correlated and the mean's own σ would claim
+// more than the data hold). auto declines
 // when no method answers, or when the agreeing group is no larger than the dissenting answers
 // (the data do not decide); the note names the answer's method, the agreeing, the outvoted and
 // the declined methods with their reasons.
