@@ -13,17 +13,18 @@ void add_estimate(CLI::App& app) {
   struct Args {
     skypole::EstimateRequest request;
     std::string hemisphere = "automatic";
+    std::string site = "stack";
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
-  std::string names;
-  for (const std::string& m : skypole::method_names()) names += (names.empty() ? "" : ", ") + m;
+  const std::string names = skypole::method_names_list();
   CLI::App* est = app.add_subcommand("estimate", "Estimate north and latitude on a stack; score against its truth");
   est->add_option("stack", a->request.path, "A stack written by skypol render")->required();
-  est->add_option("-m,--method", a->request.methods, "Estimators (" + names + ", or all); default classic")
+  est->add_option("-m,--method", a->request.methods, "Estimators (" + names + ", or all; `skypol methods` describes them); default classic")
       ->delimiter(',');
   est->add_option("--band", a->request.input.band, "Band whose DoLP is used (default: B if present, else the first)");
   est->add_option("--hemisphere", a->hemisphere, "automatic, north or south (the observer's, if known)");
+  est->add_option("--site", a->site, skypole::kSiteOptionHelp);
   est->add_option("--min-elevation", a->request.input.min_elevation_deg,
                   "Pixels lower than this (degrees, level frame) are ground and not used");
   est->add_option("--intermediates", a->request.intermediates,
@@ -35,6 +36,7 @@ void add_estimate(CLI::App& app) {
   est->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   est->callback([a] {
     a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
+    a->request.input.use_site = skypole::parse_site_use(a->site);
     // Methods done, their rate and the time left, redrawn while one runs (terminal only).
     Ticker ticker(make_progress(a->quiet, "methods"));
     a->request.progress = [&ticker](std::size_t done, std::size_t total) { ticker(done, total); };

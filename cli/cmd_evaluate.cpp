@@ -77,22 +77,27 @@ void add_evaluate(CLI::App& app) {
     std::string rows_csv, summary_csv;
     skypole::InputOptions input;
     std::string hemisphere = "automatic";
+    std::string site = "stack";
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
   CLI::App* ev = app.add_subcommand("evaluate", "Score estimators on many stacks: a CSV and a summary table");
   ev->add_option("dataset", a->inputs, "Stacks, or folders searched recursively for *.exr")->required();
-  ev->add_option("-m,--method", a->methods, "Estimators (comma-separated, or all; default all)")->delimiter(',');
+  ev->add_option("-m,--method", a->methods,
+                 "Estimators (" + skypole::method_names_list() + ": comma-separated, or all; default all)")
+      ->delimiter(',');
   ev->add_option("--csv", a->rows_csv, "Write one row per (stack, method) to this CSV");
   ev->add_option("--summary", a->summary_csv, "Write the per-method summary to this CSV");
   ev->add_option("--band", a->input.band, "Band whose DoLP is used (default: B if present, else the first)");
   ev->add_option("--hemisphere", a->hemisphere, "automatic, north or south");
+  ev->add_option("--site", a->site, skypole::kSiteOptionHelp);
   ev->add_option("--max-uncertainty", a->input.max_uncertainty_deg,
                   "Largest 95 % cone (degrees) an answer may have; a method whose stated uncertainty is "
                   "wider declines and says so (default: no bound)");
   ev->add_flag("-q,--quiet", a->quiet, "No per-stack progress on stderr");
   ev->callback([a] {
     a->input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
+    a->input.use_site = skypole::parse_site_use(a->site);
     const std::vector<std::string> methods = skypole::expand_methods(a->methods);
     const std::vector<std::string> stacks = find_stacks(a->inputs);
     std::vector<skypole::EvaluationRow> rows;
@@ -105,15 +110,7 @@ void add_evaluate(CLI::App& app) {
         row.dataset = stacks[i];
         row.truth = stack.frames[0].truth;
         try {
-          const bool reuse = m == "auto" && std::all_of(skypole::method_names().begin(), skypole::method_names().end(),
-                                                        [&](const std::string& n) {
-                                                          return !skypole::used_by_auto(n, stack.site_known) ||
-                                                                 std::any_of(done.begin(), done.end(), [&](const auto& d) {
-                                                                   return d.method == n;
-                                                                 });
-                                                        });
-          row.estimate = reuse ? skypole::combine_estimates(stack, a->input, done)
-                               : skypole::run_method(stack, m, a->input);
+          row.estimate = skypole::run_or_combine(stack, m, a->input, done);
         } catch (const std::invalid_argument& e) {
           // Input this method cannot use (too few frames, …): counted as invalid, with the reason.
           row.estimate.method = m;

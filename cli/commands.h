@@ -15,6 +15,7 @@ void add_info(CLI::App& app);
 void add_sun(CLI::App& app);
 void add_estimate(CLI::App& app);
 void add_evaluate(CLI::App& app);
+void add_methods(CLI::App& app);   // cli/cmd_methods.cpp: the estimators' registry
 void add_lens(CLI::App& app);
 void add_bench(CLI::App& app);
 // `skypol bench --rays`: the camera-ray table (cli/bench_rays.cpp); scenes_dir holds calibrations/.

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   skypol::cli::add_render(app);
   skypol::cli::add_estimate(app);
   skypol::cli::add_evaluate(app);
+  skypol::cli::add_methods(app);
   skypol::cli::add_info(app);
   skypol::cli::add_sun(app);
   skypol::cli::add_lens(app);

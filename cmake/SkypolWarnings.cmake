@@ -20,13 +20,33 @@ endif()
 file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/generated/skypol_source_dir.h
      CONTENT "#pragma once\n#define SKYPOL_SOURCE_DIR \"@PROJECT_SOURCE_DIR@\"\n" @ONLY)
 
-# skypol_add_test(NAME module/foo_test SOURCES ... LIBS ...): one Catch2 executable per module test.
+# skypol_add_test(NAME module/foo_test SOURCES ... LIBS ... [SLOW]): one Catch2 executable per module
+# test, labelled `quick`, or `slow` with SLOW (skypol_label_test).
 function(skypol_add_test)
-  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(T "SLOW" "NAME" "SOURCES;LIBS" ${ARGN})
   string(REPLACE "/" "_" _target "${T_NAME}")
   add_executable(${_target} ${T_SOURCES})
   target_link_libraries(${_target} PRIVATE skypol_catch_main ${T_LIBS} skypol_warnings)
   target_compile_options(${_target} PRIVATE -include ${PROJECT_BINARY_DIR}/generated/skypol_source_dir.h)
   add_test(NAME ${T_NAME} COMMAND ${_target})
   set_tests_properties(${T_NAME} PROPERTIES ENVIRONMENT "SKYPOL_BIN=$<TARGET_FILE:skypol>")
+  if(T_SLOW)
+    skypol_label_test(${T_NAME} SLOW)
+  else()
+    skypol_label_test(${T_NAME})
+  endif()
+endfunction()
+
+# skypol_label_test(NAME [SLOW]): the test's ctest label. `quick`: the tests `scripts/test --quick`
+# runs, together under a minute on two cores; `slow`: the end-to-end runs and the long estimator
+# tests, which only the whole suite (`scripts/test`, CI) runs. Every test has one of the two
+# (tests/CMakeLists.txt checks it).
+function(skypol_label_test name)
+  cmake_parse_arguments(L "SLOW" "" "" ${ARGN})
+  if(L_SLOW)
+    set_tests_properties(${name} PROPERTIES LABELS slow)
+  else()
+    set_tests_properties(${name} PROPERTIES LABELS quick)
+  endif()
+  set_property(GLOBAL APPEND PROPERTY SKYPOL_LABELLED_TESTS ${name})
 endfunction()

@@ -16,8 +16,9 @@ namespace {
 
 py::dict estimate(const PyStack& s, const std::string& method, const std::string& band, const std::string& hemisphere,
                   double min_elevation_deg, double heading_undefined_within_deg,
-                  const std::optional<std::pair<double, double>>& attitude) {
+                  const std::optional<std::pair<double, double>>& attitude, const std::string& site) {
   skypole::InputOptions in;
+  in.use_site = skypole::parse_site_use(site);
   in.band = band;
   in.hemisphere = skypole::parse_hemisphere(hemisphere);
   in.min_elevation_deg = min_elevation_deg;
@@ -41,10 +42,12 @@ py::dict estimate(const PyStack& s, const std::string& method, const std::string
 }  // namespace
 
 void bind_skypole(py::module_& m) {
-  m.def("method_names", &skypole::method_names, "The estimators run_method knows");
+  m.def("method_names", &skypole::method_names, "The estimators run_method knows (the registry's and auto)");
+  m.def("methods_json", &skypole::methods_json,
+        "The estimators' registry as JSON: name, description, traits, calibration (`skypol methods --json`)");
   m.def("estimate", &estimate, py::arg("stack"), py::arg("method"), py::arg("band") = "",
         py::arg("hemisphere") = "automatic", py::arg("min_elevation_deg") = 0.0,
-        py::arg("heading_undefined_within_deg") = 0.5, py::arg("attitude") = py::none(),
+        py::arg("heading_undefined_within_deg") = 0.5, py::arg("attitude") = py::none(), py::arg("site") = "stack",
         "Run one estimator on a StackHandle: dict of every PoleEstimate field plus 'score' (None if invalid)");
   m.def(
       "estimate_fields",

@@ -10,7 +10,7 @@ An uncalibrated run keeps every answer the method itself gives (no gates, no bou
 jackknife covariances -- over frame groups (C_frames) and, for the methods that have one, over
 sky sectors (C_sectors; skypole/uncertainty.h) -- and the measures the gates and the per-answer
 terms read (residual, window, unpolarized share, ring anisotropy, model misfit, pixel angle, frames). So every
-calibration (skypole/evaluate.cpp, method_calibrations()) can be tried here without running
+calibration (each method's registry entry, skypole/*_method.cpp) can be tried here without running
 anything again:
     sigma^2 = lmax(w^2 (a^2 C_frames + b^2 C_sectors)) + floor^2
               + (share*max(0, residual - pixels*pixel_deg))^2 + (u*unpolarized_share)^2
@@ -58,6 +58,8 @@ import math
 
 import numpy as np
 
+import skypol_methods  # scripts/skypol_methods.py: the estimators' registry, from the binary
+
 K95 = 2.4477  # sqrt(chi2_2(0.95))
 AGREE = 1.5185  # sqrt(chi2_2(0.999) / chi2_2(0.95)), as in evaluate.cpp
 LIE_DEG, LIE_SIGMA = 5.0, 5.0
@@ -77,7 +79,21 @@ SKY_WILSON = False
 # auto before section 7e (evaluate.cpp's auto_rank()): the agreeing answer of the first method in
 # this order, the methods by the median error of their calibrated answers on seed 1.
 RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
-SECTOR_METHODS = ("sun_vector", "sun_vector_ephemeris", "sun_dolp", "great_circle", "invariance")  # evaluate.cpp has_sector_jackknife
+
+
+def sector_methods():
+    """The methods with a sector jackknife (their registry traits, skypol_methods.py)."""
+    return skypol_methods.names(lambda m: m["sector_jackknife"])
+
+
+def site_methods():
+    """The methods that read the stack's site, which auto leaves out without it."""
+    return skypol_methods.names(lambda m: m["needs_site"])
+
+
+def alone_methods():
+    """The methods whose answer auto returns as it stands when it agrees (auto_answers_alone)."""
+    return skypol_methods.names(lambda m: m["auto_answers_alone"])
 
 
 def fnum(s):
@@ -129,7 +145,7 @@ def load(paths, replace=()):
         d["elev"].append(fnum(r.get("sun_elevation_misfit_deg", "0") or "0") if v else 0.0)
         d["pixel"].append(fnum(r["pixel_deg"]))
         d["frames"].append(int(r["frames"]))
-        # The frame jackknife's groups (evaluate.h frame_jackknife_max_groups); a run before the
+        # The frame jackknife's groups (method_registry.h frame_jackknife_max_groups); a run before the
         # column: min(frames, 6), what every method dealt its frames into then.
         d["groups"].append(int(r["frame_groups"]) if v and r.get("frame_groups", "") not in ("", "0")
                            else min(int(r["frames"]), 6))
@@ -319,7 +335,7 @@ def search(m, d, bound):
     factors = [0.5, 0.75, 1, 1.25, 1.5, 2, 3, 4, 6, 8, 12, 16]
     # A method with a sector jackknife counts it (b > 0): the errors that live in one part of the sky
     # are what it is there for, and a tuning set that happens to hold few of them must not drop it.
-    sectors = [0.0] if m not in SECTOR_METHODS else [0.25, 0.5, 0.75, 1, 1.5, 2, 3]
+    sectors = [0.0] if m not in sector_methods() else [0.25, 0.5, 0.75, 1, 1.5, 2, 3]
     # The smallest floors are numerical: a noise-free stack's answers agree with the truth to
     # 1e-6..1e-4 deg (float32 Stokes, the solvers' tolerances), below what a jackknife resolves.
     floors = [1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.03, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0, 1.25, 1.5, 2.0]
@@ -395,7 +411,7 @@ def combine(by, cal, bound, mode="sharpest", site_known=True):
     inverse-variance weighted mean of its answers (mode "mean"), stated with the sharpest's sigma.
     Angles between answers and the mean's error come from each answer's offset from the truth in
     the tangent plane there (small angles: the agreement test is at most ~11°)."""
-    methods = [m for m in by if (site_known or m != "sun_vector_ephemeris") and m in cal]
+    methods = [m for m in by if (site_known or m not in site_methods()) and m in cal]
     n = len(next(iter(by.values()))["stack"])
     out_ok = np.zeros(n, bool)
     out_err = np.full(n, math.nan)
@@ -425,7 +441,7 @@ def combine(by, cal, bound, mode="sharpest", site_known=True):
         sharp = min(members, key=lambda b: b[3])
         if mode == "ranked":  # the most accurate method of the calibration study that agrees
             sharp = min(members, key=lambda b: RANK.index(b[0]) if b[0] in RANK else len(RANK))
-        eph = next((b for b in members if b[0] == "sun_vector_ephemeris"), None)
+        eph = next((b for b in members if b[0] in alone_methods()), None)
         if mode in ("ephemeris", "ephemeris_mean"):  # the ephemeris' answer if it agrees, else the
             sharp = eph or sharp                      # sharpest, or (ephemeris_mean) their mean
         if sharp[2] > bound:
@@ -451,7 +467,7 @@ def auto_report(by, cal, bound, mode, site_known=True):
                                  "median": float(np.median(e)) if v else math.nan})
     # auto against each method on the stacks where both answer.
     for m, d in by.items():
-        if m not in cal or (m == "sun_vector_ephemeris" and not site_known):
+        if m not in cal or (m in site_methods() and not site_known):
             continue
         mok, _ = apply(d, cal[m], bound)
         both = ok & mok
@@ -527,7 +543,7 @@ def main():
     for mode in (["sharpest", "ranked", "ephemeris", "ephemeris_mean", "mean", "mean_raw"] if a.auto == "both"
                  else [a.auto]):
         auto_report(by, cal, a.bound, mode)
-        if "sun_vector_ephemeris" in by and len(by) > 2:
+        if any(m in by for m in site_methods()) and len(by) > 2:
             auto_report(by, cal, a.bound, mode, site_known=False)
     if a.plot:
         plot(by, cal, a.bound, a.plot, a.auto if a.auto != "both" else "sharpest")

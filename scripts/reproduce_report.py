@@ -120,7 +120,7 @@ def vrte_section(r, g, add, fig):
             if x is None:
                 cells += ["–"] * 3
                 continue
-            lat = "0 (known)" if m == "sun_vector_ephemeris" else small_angle(x["latitude"])
+            lat = "0 (known)" if m in g["SITE"] else small_angle(x["latitude"])
             cells += [f"{x['valid']}/{x['n']}", small_angle(x["bearing"]), lat]
         rows.append(cells)
     add(table(["method", "valid (noise-free)", "\\|bearing\\|", "\\|latitude\\|", "valid (sensor)",
@@ -371,7 +371,7 @@ def render(r, g):
             if v is None:
                 cells += ["–"] * 3
                 continue
-            lat = "0 (known)" if m == "sun_vector_ephemeris" else small_angle(v["latitude"])
+            lat = "0 (known)" if m in g["SITE"] else small_angle(v["latitude"])
             cells += [f"{v['valid']}/{v['n']}", small_angle(v["bearing"]), lat]
         rows.append(cells)
     add(table(["method", "valid (noise-free)", "\\|bearing\\|", "\\|latitude\\|", "valid (sensor)", "\\|bearing\\|",
@@ -395,7 +395,7 @@ def render(r, g):
             if v is None or v["bearing"] is None:
                 cells.append("invalid")
                 continue
-            lat = "–" if m == "sun_vector_ephemeris" else fmt(v["latitude"], 2)
+            lat = "–" if m in g["SITE"] else fmt(v["latitude"], 2)
             extra = "" if v["valid"] == v["n"] else f" [{v['valid']}/{v['n']}]"
             cells.append(f"{fmt(v['bearing'], 2)} / {lat}{extra}")
         rows.append(cells)

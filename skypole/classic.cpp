@@ -75,10 +75,9 @@ void unusable_neighbours(const SkyImages& sky, std::size_t i, bool& field, bool&
     }
 }
 
-// A maximum wider than this (RMS radius) localises nothing, wherever its centre: the valid answers
-// of the paper's protocol (docs/reproduction.md, 612×512, through the sensor and noise-free) have
-// RMS radii of 7.5–17.2°, while the maxima the calibration study's seed 2 declined at the edge ran
-// to 69° (30 % of the sky reached by both pairs of a 37-minute window).
+// A maximum wider than this (RMS radius) localises nothing, wherever its centre: it lies above the
+// radii of the paper's protocol's valid answers and well below those of the maxima a short window
+// spreads over the sky (docs/calibration-history.md, "Measurements behind the code's constants").
 constexpr double kWideMaximumDeg = 20.0;
 
 // Robust σ of the (filtered) difference image's noise: the MAD of differences between pixels
@@ -250,9 +249,9 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
     // centre farther inside than its own RMS radius, or wider than kWideMaximumDeg) was never
     // localised: a short, sparse or noisy window, whatever edge it touches. A compact one may point
     // past what it touches — beyond the field of view, or behind masked sky (cloud, clipping) — but
-    // on the calibration study's seed 2 most compact maxima at the field's edge had the pole well
-    // inside the field (a peak of the differences elsewhere), so the decline names both causes and
-    // claims neither.
+    // in the calibration study most compact maxima at the field's edge have the pole well inside
+    // the field (a peak of the differences elsewhere), so the decline names both causes and claims
+    // neither.
     const double share = static_cast<double>(size[static_cast<std::size_t>(chosen)]) / std::max(sky.valid_count, 1);
     double edge_deg = 180.0;
     for (std::size_t i = 0; i < n; ++i)

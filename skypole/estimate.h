@@ -74,7 +74,7 @@ struct InputOptions {
   // wider declines with the numbers (run_method). Infinity: no bound.
   double max_uncertainty_deg = std::numeric_limits<double>::infinity();
   // false: the jackknife's σ as measured, without the method's calibration factor
-  // (method_calibrations(), evaluate.h) — what the calibration study measures the factors from.
+  // (Method::calibration, method_registry.h) — what the calibration study measures the factors from.
   bool calibrated = true;
   // false: skip the calibration's whole-sky cloud gate (cloud_share.h), to measure what the
   // methods do under cloud on their own (`tradeoff calibration --no-cloud-gate`).
@@ -82,6 +82,10 @@ struct InputOptions {
   // false: the methods fit every sky pixel, without the per-pixel sky mask (sky_mask.h); for
   // before/after measurements (`--no-sky-mask`). classic never uses the mask.
   bool sky_mask = true;
+  // false: the methods do not use the stack's site and times, as on a capture whose site is unknown
+  // (`--site unknown`): a method that needs them declines and auto is site-free (site_usable,
+  // method_registry.h). Scoring against the truth is not affected.
+  bool use_site = true;
 };
 
 struct PoleEstimate {

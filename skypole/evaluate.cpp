@@ -13,8 +13,6 @@
 
 #include "skypole/classic.h"
 #include "skypole/cloud_share.h"
-#include "skypole/great_circle.h"
-#include "skypole/invariance.h"
 #include "skypole/run_bare.h"
 #include "skypole/sky_images.h"
 #include "skypole/stack_sky.h"
@@ -46,18 +44,7 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
-const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names = {"classic", "great_circle", "invariance",
-                                                 "sun_vector", "sun_vector_ephemeris",
-                                                 "sun_dolp", "auto"};
-  return names;
-}
-
 namespace {
-
-// The sector jackknife's sectors (uncertainty.h): six, each a sixth of the image about the
-// principal point.
-constexpr int kSkySectors = 6;
 
 // √(χ²₂(0.999) / χ²₂(0.95)) = √(13.8155 / 5.99146).
 constexpr double kAgreeScale = 1.5185;
@@ -68,24 +55,18 @@ double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
 
 }  // namespace
 
-bool has_sector_jackknife(std::string_view method) {
-  return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp" ||
-         method == "great_circle" || method == "invariance";
-}
-
-int frame_jackknife_max_groups(std::string_view method) { return method == "great_circle" ? 24 : 6; }
-
-bool used_by_auto(std::string_view method, bool site_known) {
-  if (method == "auto") return false;
-  return method != "sun_vector_ephemeris" || site_known;
+bool used_by_auto(std::string_view method, bool site_usable) {
+  const Method* m = find_method(method);
+  return m && m->traits.used_by_auto && (!m->traits.needs_site || site_usable);
 }
 
 PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& input,
                                const std::vector<PoleEstimate>& estimates) {
   std::vector<PoleEstimate> all;
   double total_seconds = 0;
+  const bool site = site_usable(stack, input);
   for (const PoleEstimate& e : estimates)
-    if (used_by_auto(e.method, stack.site_known)) {
+    if (used_by_auto(e.method, site)) {
       all.push_back(e);
       total_seconds += e.seconds;
     }
@@ -137,18 +118,16 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
     out.why_invalid = "the methods disagree beyond their 95 % cones: " + who;
     return out;
   }
-  // The answer. sun_vector_ephemeris' when it agrees, as it stands (its pole and its σ): its median
-  // error is some twenty times smaller than any other method's, and averaging pulls it towards
-  // worse ones (0.0175° against 0.0105° on seed 1, docs/calibration-history.md section 7a). Without it (a
+  // The answer. That of a method whose answer stands alone when it agrees (auto_answers_alone,
+  // method_registry.h: sun_vector_ephemeris), as it stands (its pole and its σ). Without it (a
   // capture without its site, or the ephemeris declined or outvoted), the inverse-variance mean of
   // the agreeing answers, stated with the σ of the sharpest of them: the methods read the same
   // frames, so their errors are correlated, and the mean's own σ would claim more than the data
-  // hold. Without the site, on the scenes both answer (seeds 1 and 3–5), that mean erred less than
-  // sun_vector, sun_dolp and great_circle and as much as invariance; the agreeing answer of a fixed
-  // order of methods (auto_rank(), before section 7e) erred more than sun_vector's, sun_dolp's and
-  // invariance's own.
-  const auto ephemeris = std::find_if(members.begin(), members.end(),
-                                      [](const PoleEstimate* b) { return b->method == "sun_vector_ephemeris"; });
+  // hold (docs/calibration-history.md, "auto's rule", compares it with the alternatives).
+  const auto ephemeris = std::find_if(members.begin(), members.end(), [](const PoleEstimate* b) {
+    const Method* m = find_method(b->method);
+    return m && m->traits.auto_answers_alone;
+  });
   const PoleEstimate* sharpest = *std::min_element(
       members.begin(), members.end(), [](const PoleEstimate* a, const PoleEstimate* b) { return a->sigma_deg < b->sigma_deg; });
   const PoleEstimate* chosen = ephemeris != members.end() ? *ephemeris : sharpest;
@@ -199,19 +178,20 @@ struct SharedWork {
 };
 
 // run_method of one method on `work`'s stack.
-PoleEstimate run_with(SharedWork& work, std::string_view method, ClassicImages* classic_images);
+PoleEstimate run_with(SharedWork& work, const Method& method, ClassicImages* classic_images);
 
 PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
   std::vector<PoleEstimate> all;
   SharedWork work(stack, input);
-  for (const std::string& m : method_names()) {
-    if (!used_by_auto(m, stack.site_known)) continue;
+  const bool site = site_usable(stack, input);
+  for (const Method& m : methods()) {
+    if (!used_by_auto(m.name, site)) continue;
     PoleEstimate e;
     try {
       e = run_with(work, m, nullptr);
     } catch (const std::invalid_argument& err) {
       e = PoleEstimate{};
-      e.method = m;
+      e.method = m.name;
       e.why_invalid = err.what();
     }
     all.push_back(std::move(e));
@@ -221,55 +201,9 @@ PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
 
 }  // namespace
 
-const std::vector<MethodCalibration>& method_calibrations() {
-  // Read off uncalibrated runs of the calibration study (`skypol tradeoff calibration … --uncalibrated
-  // --max-uncertainty inf`) by scripts/calibration_tune.py, under the rules of docs/benchmarks.md
-  // section 7: no tuning error beyond 5 × margin σ (0.9 for the ephemeris, 0.8 for the others),
-  // 90–98 % of the truths inside the stated cone, each sky model covered, every cone within the
-  // study's 2.5° bound, and of those the calibration with the most answers and the fewest gates and
-  // terms. The pool: 5,300 scenes rendered with the clipped sky masked (binning 16 seeds 1, 3–12 and
-  // 26; binning 8 seeds 3, 4, 5, 21 and 27; section 7l of docs/calibration-history.md, where the
-  // reasons for each term below are told with the held-out scenes that found them); great_circle's
-  // since section 7m. In one line each:
-  //  - sun_vector_ephemeris: its suns' elevation misfit shows an error every frame shares (7d: 1.01°
-  //    off at 5.1σ under cloud); past 30 % of unreadable sky no factor held its tails (7a, 7h).
-  //  - sun_vector: a window under 60 min and a sky past 1 % Rayleigh-law misfit gave errors no
-  //    jackknife saw (7d, 7e, 7i); 1° × the unpolarized share covers cloud without a cloud gate (7l).
-  //  - great_circle: its frame jackknife leaves out one frame at a time (evaluate.h
-  //    frame_jackknife_max_groups), so its σ is no longer a six-group draw whose tail lied at 5.2σ
-  //    on held-out seed 2 at binning 8; the sector factor grows with the unpolarized share, since
-  //    under cloud the sectors measure a bias (7h, 7m). Tuned on the 7l pool and seed 36 rerun so,
-  //    held out on seeds 37–39 (binning 8) and 37–38 (binning 16): section 7m.
-  //  - sun_dolp: its error lives in parts of the sky, so the sector factor binds (7f); it fits the
-  //    Rayleigh law, so it declines a sky past 1 % misfit (7c); 1° × the unpolarized share (7j, 7l).
-  //  - invariance: 7k's calibration with the floor raised to 0.001°, its numerical error on a
-  //    noise-free stack; the searches' own picks failed on held-out seeds 28–33, so this one was
-  //    chosen by hand and held out on 34 and 35 (7l). Its co-rotating model takes the sky's pattern to
-  //    be fixed to the sun: 80° × misfit (7e); a sky more than 30 % clipped has no answer it can
-  //    state (7k).
-  //  - classic: the frame-only calibration, taken as it is: it answers 0–4 of 300 random scenes, too
-  //    few to tune; its residual term counts what exceeds its blob's few pixels, and its misfit gate
-  //    declines the vrte skies it lied on (7i).
-  static const std::vector<MethodCalibration> c = {
-      {.method = "classic", .inflation = 6.0, .floor_deg = 0.0, .residual_share = 0.25,
-       .residual_pixels = 6.0, .max_ring_anisotropy = 0.2, .max_model_misfit = 0.01, .unpolarized_deg = 2.0},
-      {.method = "great_circle", .inflation = 0.45, .floor_deg = 0.05, .max_residual_deg = 5.0,
-       .max_model_misfit = 0.01, .sector_inflation = 0.2, .sector_unpolarized = 1.0},
-      {.method = "invariance", .inflation = 0.5, .floor_deg = 0.001, .max_residual_deg = 0.5,
-       .max_clipped_share = 0.3, .sector_inflation = 0.5, .misfit_deg = 80.0},
-      {.method = "sun_vector", .inflation = 0.45, .floor_deg = 0.025, .max_residual_deg = 5.0, .min_window_min = 60.0,
-       .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 1.0},
-      {.method = "sun_vector_ephemeris", .inflation = 0.4, .floor_deg = 0.0003, .max_residual_deg = 5.0,
-       .max_unpolarized_share = 0.3, .sector_inflation = 0.1, .elevation_share = 0.25},
-      {.method = "sun_dolp", .inflation = 0.25, .floor_deg = 0.03, .max_residual_deg = 5.0,
-       .max_model_misfit = 0.01, .sector_inflation = 0.5, .unpolarized_deg = 1.0},
-  };
-  return c;
-}
-
 namespace {
 
-// The calibration's gates (method_calibrations()): decline, with the numbers, where the study
+// The calibration's gates (Method::calibration, method_registry.h): decline, with the numbers, where the study
 // found the method's error unpredictable. `unread` receives the sky's unpolarized and clipped
 // shares when a gate measured them, so that run_method's σ terms do not prepare the same images again.
 void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& whole,
@@ -380,100 +314,53 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
 
 namespace {
 
-PoleEstimate run_with(SharedWork& work, std::string_view method, ClassicImages* classic_images) {
+PoleEstimate run_with(SharedWork& work, const Method& method, ClassicImages* classic_images) {
   const StackSky& whole = work.whole;
   const stack::Stack& stack = whole.stack();
   const InputOptions& input = whole.input();
+  const MethodTraits& traits = method.traits;
   const auto t0 = std::chrono::steady_clock::now();
-  // great_circle's circles are computed once; its jackknife refits only the pole from them.
-  std::optional<GreatCirclePairs> gc;
-  GreatCircleParams gc_params;
-  gc_params.input = input;
-  // classic's filtered frames likewise; its jackknife re-pairs the frames kept.
-  std::optional<ClassicPrepared> cl;
-  ClassicParams cl_params;
-  cl_params.input = input;
-  cl_params.keep_intermediates = classic_images != nullptr;
-  // The sector jackknife: whether the method has one, and its answer without sector g where the
-  // method refits that from its own work (great_circle, invariance); otherwise it reruns on the
-  // stack with the sector masked.
-  bool sectors = has_sector_jackknife(method);
-  std::function<PoleEstimate(int g)> without_sector;
-  std::vector<PoleEstimate> inv_without_sector;  // invariance's answers without each sector of its window
-  PoleEstimate e;
-  if (method == "great_circle") {
-    gc_params.sectors = kSkySectors;  // its sector jackknife refits the kept crossings
-    gc = great_circle_pairs(SkyView(whole), gc_params);
-    e = great_circle_pole(*gc, gc_params).estimate;
-    without_sector = [&](int g) { return great_circle_pole_without_sector(*gc, gc_params, g).estimate; };
-  } else if (method == "invariance") {
-    InvarianceParams p;
-    p.input = input;
-    p.sectors = kSkySectors;  // its sector jackknife refits its own window without each sector
-    InvarianceResult r = estimate_invariance(SkyView(whole), p);
-    e = r.estimate;
-    inv_without_sector = std::move(r.without_sector);
-    sectors = !inv_without_sector.empty();  // the per-frame refinement (frames without times) has none
-    without_sector = [&](int g) { return inv_without_sector[static_cast<std::size_t>(g)]; };
-  } else if (method == "classic") {
-    cl = prepare_classic(stack, cl_params);
-    ClassicResult r = classic_from(*cl, cl_params);
-    if (classic_images) *classic_images = std::move(r.images);
-    cl_params.keep_intermediates = false;
-    e = r.estimate;
-  } else {
-    e = run_bare(SkyView(whole), method);
-  }
+  check_site(method, stack, input);
+  // The method's answer, with what its jackknives refit from its own work (method_registry.h
+  // MethodRun); the refits it does not give rerun its bare run on a view of the stack.
+  MethodRun run;
+  if (method.run)
+    run = method.run(whole, classic_images);
+  else
+    run.estimate = method.bare(SkyView(whole));
+  PoleEstimate e = std::move(run.estimate);
   if (!e.valid) return e;
-  // great_circle's great circles need DoLP to be a function of the angle to the sun alone, which a
-  // sky far from Rayleigh's law need not be (a multiply scattering sky's DoLP also falls towards the
-  // horizon, and bends the circles alike in every frame and sector); sun_vector's suns, read off
-  // the AoLP pattern, move with the same departure, in elevation, alike in every frame, so that its
-  // latitude errs by degrees (held-out seed 11); invariance's co-rotating model takes the sky's
-  // pattern to be fixed to the sun, which a sky that also darkens and depolarizes towards the
-  // horizon is not (held-out seed 11: 4.46° off at 4.5σ on a clear vrte sky); classic's binary
-  // images find where DoLP stays constant, which is the pole only for a sky whose DoLP is a function
-  // of the angle to the sun (held-out seed 21: 23° off at 25σ on a clear vrte sky; the shipped vrte
-  // scene at binning 8: 21° off in bearing inside a 5° cone). Measured for their gates and σ terms.
-  if (method == "great_circle" || method == "sun_vector" || method == "invariance" || method == "classic") {
+  // A sky far from Rayleigh's law bends what the methods that read its shape find, alike in every
+  // frame and sector (method_registry.h misfit_measured; each entry says why): measured once per
+  // stack for their gates and σ terms.
+  if (traits.misfit_measured) {
     if (!work.misfit) work.misfit = rayleigh_law_misfit(SkyView(whole));
     e.model_misfit = *work.misfit;
   }
-  MethodCalibration cal;
-  for (const MethodCalibration& c : method_calibrations())
-    if (c.method == method) cal = c;
+  const MethodCalibration& cal = method.calibration;
   std::optional<UnreadableSky>& unread = work.unread;  // the sky's unpolarized and clipped shares, once measured
   apply_gates(e, cal, whole, unread);
   if (!e.valid) return e;
-  std::optional<Eigen::Matrix2d> frames;
   const int frame_count = static_cast<int>(stack.frames.size());
-  const int max_groups = frame_jackknife_max_groups(method);
-  if (cl) {
-    frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
-      return classic_from(*cl, cl_params, &keep).estimate;
-    }, max_groups);
-  } else if (gc) {
-    frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
-      return great_circle_pole(*gc, gc_params, &keep).estimate;
-    }, max_groups);
-  } else {
-    frames = frame_jackknife(e, frame_count, [&](const std::vector<std::uint8_t>& keep) {
-      return run_bare(SkyView::kept(whole, keep), method);
-    }, max_groups);
-  }
+  const int max_groups = traits.frame_jackknife_max_groups;
+  if (!run.without_frames)
+    run.without_frames = [&](const std::vector<std::uint8_t>& keep) {
+      return method.bare(SkyView::kept(whole, keep));
+    };
+  const std::optional<Eigen::Matrix2d> frames = frame_jackknife(e, frame_count, run.without_frames, max_groups);
   if (!frames) return e;
   Jackknives jack;
   jack.frames = *frames;
   jack.frame_groups = frame_jackknife_groups(frame_count, max_groups);
-  if (sectors) {
+  if (traits.sector_jackknife && run.sectors) {
     // Sectors about the principal point, so that each holds a sixth of the sky (invariance: about
     // its pole, within the window it reads).
     const camera::Intrinsics& k = stack.camera->lens().intrinsics();
-    if (!without_sector)
-      without_sector = [&](int g) {
-        return run_bare(SkyView::without_sector(whole, Eigen::Vector2d(k.cx, k.cy), g, kSkySectors), method);
+    if (!run.without_sector)
+      run.without_sector = [&](int g) {
+        return method.bare(SkyView::without_sector(whole, Eigen::Vector2d(k.cx, k.cy), g, kSkySectors));
       };
-    const auto s = sector_jackknife(e, kSkySectors, without_sector);
+    const auto s = sector_jackknife(e, kSkySectors, run.without_sector);
     if (!s) return e;
     jack.sectors = *s;
     jack.sector_groups = kSkySectors;
@@ -510,8 +397,21 @@ PoleEstimate run_with(SharedWork& work, std::string_view method, ClassicImages* 
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input, ClassicImages* classic_images) {
   if (method == "auto") return run_auto(stack, input);
+  const Method& m = method_entry(method);
   SharedWork work(stack, input);
-  return run_with(work, method, classic_images);
+  return run_with(work, m, classic_images);
+}
+
+PoleEstimate run_or_combine(const stack::Stack& stack, std::string_view method, const InputOptions& input,
+                            const std::vector<PoleEstimate>& done) {
+  const bool site = site_usable(stack, input);
+  const auto computed = [&](const Method& m) {
+    return !used_by_auto(m.name, site) ||
+           std::any_of(done.begin(), done.end(), [&](const PoleEstimate& d) { return d.method == m.name; });
+  };
+  if (method == "auto" && std::all_of(methods().begin(), methods().end(), computed))
+    return combine_estimates(stack, input, done);
+  return run_method(stack, method, input);
 }
 
 Stats summarize_values(std::vector<double> v) {

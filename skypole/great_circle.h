@@ -46,8 +46,8 @@
 // the whole sky's DoLP, and a pair that failed on the whole sky stays unused. Measured against
 // the masked reruns (great_circle_sectors_test): a sector σ of 8.44° against 8.43° on a sky wrong
 // in one sector that moves the answer 6.4° (the frame jackknife: 0.13°), 0.015° against 0.014° on
-// a clear day. It costs 10 % more CPU on the paper's day at 306×256, 23 frames (1.39 → 1.53 s,
-// `perf stat`, interleaved runs), where the masked reruns would cost ×7, and 4 MB for the crossings.
+// a clear day. It costs about a tenth more CPU than the method without it, where the masked reruns
+// would cost ×7, and 4 MB for the crossings at 306×256 (docs/calibration-history.md).
 #pragma once
 
 #include <cstdint>

@@ -104,8 +104,9 @@ struct InvarianceResult {
 // turn (decide_hemisphere, with the user's hint), and the co-rotating fit's sense (pattern_sense:
 // −1 NCP, +1 SCP, 0 none; it speaks when the other sense fits at least min_contrast times worse).
 // The suns here are the lowest DoLP above the horizon, which a sky with neutral points apart from
-// the sun (Berry's, a multiply scattering one) can place on a neutral point (held-out seed 10: a
-// clear Berry sky at 57°S, the SCP reported as the NCP, 179° off); the pattern is the whole sky.
+// the sun (Berry's, a multiply scattering one) can place on a neutral point, so that they name the
+// wrong end (docs/calibration-history.md, "Measurements behind the code's constants"); the pattern
+// is the whole sky.
 //  - the suns cannot tell: the pattern decides;
 //  - the suns decided without a hint and the pattern says the other end: declined (!ok, `why`);
 //  - the suns overrode the user's hint and the pattern sides with the hint: the hint stands, and

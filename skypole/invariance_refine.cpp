@@ -59,9 +59,9 @@ std::size_t index_of(const SkyImages& sky, int x, int y) {
 
 // The minimum too near unusable pixels for its window, by what the nearest one is (why_unusable):
 // near masked sky the pole may be behind the mask, near the edge of the field of view beyond it;
-// either way a minimum that a short or noisy window left shallow wanders to an edge too (on the
-// calibration study's seed 2 about half of these declines had the pole well inside the field), so
-// both causes are named and neither is claimed.
+// either way a minimum that a short or noisy window left shallow wanders to an edge too (in the
+// calibration study about half of these declines have the pole well inside the field), so both
+// causes are named and neither is claimed.
 std::string at_edge(Unusable nearest) {
   return "the minimum of DoLP variance is at " + std::string(unusable_words(nearest)) + ": " +
          std::string(pole_beyond_words(nearest)) + ", or the window is too short or noisy to place it";

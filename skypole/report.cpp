@@ -157,9 +157,7 @@ std::vector<std::string> expand_methods(const std::vector<std::string>& names) {
   if (names.size() == 1 && names[0] == "all") return legal;
   for (const std::string& m : names) {
     if (std::find(legal.begin(), legal.end(), m) == legal.end()) {
-      std::string list;
-      for (const std::string& l : legal) list += (list.empty() ? "" : ", ") + l;
-      throw std::invalid_argument("unknown method '" + m + "' (expected one of " + list + ", or all)");
+      throw std::invalid_argument("unknown method '" + m + "' (expected one of " + method_names_list() + ", or all)");
     }
   }
   if (names.empty()) throw std::invalid_argument("no method given");
@@ -191,12 +189,7 @@ void print_estimate(const EstimateRequest& r) {
       write_intermediates(images, r.intermediates, r.path);
     } else {
       try {
-        const auto computed = [&](const std::string& m) {
-          return !used_by_auto(m, stack.site_known) ||
-                 std::any_of(done.begin(), done.end(), [&](const PoleEstimate& d) { return d.method == m; });
-        };
-        const bool reuse = methods[i] == "auto" && std::all_of(method_names().begin(), method_names().end(), computed);
-        e = reuse ? combine_estimates(stack, r.input, done) : run_method(stack, methods[i], r.input);
+        e = run_or_combine(stack, methods[i], r.input, done);
       } catch (const std::invalid_argument& err) {
         e = PoleEstimate{};
         e.method = methods[i];

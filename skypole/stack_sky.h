@@ -1,8 +1,8 @@
 // A stack prepared once for an estimate and its jackknives (uncertainty.h). Each answer runs its
 // method a dozen times more, without each frame group and without each sky sector; run on copies
-// of the stack (frames_kept, sector_left_out), each of those sub-runs copied the stack, prepared
-// its sky, judged the sky mask and turned every pixel's AoLP into an E-vector again: sun_vector
-// took 47 s on 8 frames of 2448×2048, where its answer alone took 3 s.
+// of the stack (frames_kept, sector_left_out), each of those sub-runs would copy the stack, prepare
+// its sky, judge the sky mask and turn every pixel's AoLP into an E-vector again, at some fifteen
+// times the cost of the answer alone (docs/calibration-history.md).
 //
 // Here the stack is read once (StackSky: read_sky_frames, sky_images.h), and each frame's E-vectors
 // (e_vectors.h) and sky-mask judgments (sky_mask.h) are computed once, on the whole stack's sky. A

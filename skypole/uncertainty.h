@@ -6,7 +6,7 @@
 //
 // The frame jackknife. The frames are dealt into K = min(frames, max_groups) interleaved groups
 // (frame i goes to group i mod K; max_groups is 6, or 24 for great_circle, whose refits are cheap:
-// evaluate.h frame_jackknife_max_groups); the method runs again K times, each time without one group. The K
+// method_registry.h MethodTraits::frame_jackknife_max_groups); the method runs again K times, each time without one group. The K
 // answers' scatter about their mean, as the delete-a-group jackknife prescribes (Efron &
 // Tibshirani, ch. 11: cov = (K−1)/K·Σ(θk − θ̄)(θk − θ̄)ᵀ), plus its bias term (K−1)·θ̄θ̄ᵀ, is
 // the covariance of the pole's direction in the tangent plane at the estimate (azimuth and

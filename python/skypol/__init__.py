@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
+import json
 import math
 import numbers
 from typing import Any, Iterable, Mapping, Sequence
@@ -27,7 +28,8 @@ from ._skypol import SceneError, method_names, parse_time, format_time
 __all__ = [
     "SceneError", "Scene", "Camera", "Frame", "Stack", "Estimate",
     "load_scene", "parse_scene", "render_frame", "render_stack", "iter_frames", "read_stack", "write_stack",
-    "stack_from_arrays", "estimate", "method_names", "sun_position", "parse_time", "format_time", "marseille",
+    "stack_from_arrays", "estimate", "method_names", "methods", "sun_position", "parse_time", "format_time",
+    "marseille",
 ]
 
 
@@ -371,11 +373,13 @@ Estimate = dataclasses.make_dataclass(
 def estimate(data: Stack | Mapping[str, Any] | np.ndarray, method: str | Sequence[str] = "classic", *,
              scene: Scene | None = None, times: Any = None, band: str = "", hemisphere: str = "automatic",
              min_elevation_deg: float = 0.0, heading_undefined_within_deg: float = 0.5,
-             attitude: tuple[float, float] | None = None, as_dict: bool = False):
+             attitude: tuple[float, float] | None = None, site: str = "stack", as_dict: bool = False):
     """Estimate north with one estimator (an Estimate) or several (a list; "all" is every one).
     data: a Stack, or arrays with scene= and times= (a dict of channels as for stack_from_arrays,
     or a frames×height×width DoLP array of the scene's first band). attitude: (tilt_deg, roll_deg)
-    the estimator may use (default: the truth's). The GIL is released while estimating."""
+    the estimator may use (default: the truth's). site: "stack" (its site and times, if it knows them)
+    or "unknown" (as if it did not: methods that need the site decline, auto is site-free; the CLI's
+    --site). The GIL is released while estimating."""
     if not isinstance(data, Stack):
         if scene is None or times is None:
             raise ValueError("estimate: arrays need scene= and times=")
@@ -386,9 +390,17 @@ def estimate(data: Stack | Mapping[str, Any] | np.ndarray, method: str | Sequenc
     out = []
     for m in methods:
         d = _skypol.estimate(data._h, m, band, hemisphere, min_elevation_deg, heading_undefined_within_deg,
-                             None if attitude is None else (float(attitude[0]), float(attitude[1])))
+                             None if attitude is None else (float(attitude[0]), float(attitude[1])), site)
         out.append(d if as_dict else Estimate(**d))
     return out[0] if isinstance(method, str) and method != "all" else out
+
+
+def methods() -> list[dict[str, Any]]:
+    """The estimators' registry (skypole/method_registry.h; `skypol methods --json`): one dict per
+    method, in the order "all" runs them, with name, description, its traits (frame_jackknife_max_groups,
+    sector_jackknife, used_by_auto, needs_site, misfit_measured, auto_answers_alone) and calibration
+    (a dict; an unbounded gate is None). "auto", their combination, is not one of them."""
+    return json.loads(_skypol.methods_json())
 
 
 # ------------------------------------------------------------------------------------------- sun

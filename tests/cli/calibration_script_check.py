@@ -2,11 +2,11 @@
 """scripts/calibration_tune.py and the C++ state the same answers with the same sigmas.
 
 The calibration is tuned in Python on uncalibrated runs (the raw jackknives per answer) and used in
-C++ (skypole/evaluate.cpp, method_calibrations()); docs/figures/benchmarks/calibration-committed.json
+C++ (each method's registry entry, skypole/*_method.cpp); docs/figures/benchmarks/calibration-committed.json
 is that calibration as the script reads it. This runs the same small random scenes twice -- once
 calibrated, once uncalibrated -- and checks that the script, applying the JSON to the uncalibrated
 answers at the study's bound, declines the same answers and states the same sigma as the C++ did.
-So the JSON, method_calibrations() and the two implementations of the sigma model (the widening
+So the JSON, the registry's calibrations and the two implementations of the sigma model (the widening
 for few jackknife groups, floors, gates) cannot drift apart unnoticed.
 
     calibration_script_check.py SKYPOL SOURCE_DIR
@@ -20,6 +20,8 @@ import tempfile
 skypol, source = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(source, "scripts"))
 import calibration_tune as ct  # noqa: E402
+
+ct.skypol_methods.use(skypol)  # the traits the script reads, from the binary under test
 
 BOUND = 2.5  # the study's default --max-uncertainty (studies/tradeoff_studies.h)
 with tempfile.TemporaryDirectory() as tmp:

@@ -123,3 +123,37 @@ TEST_CASE("estimate and evaluate refuse what they cannot use", "[cli][errors]") 
   CHECK_THAT(e.out, Catch::Contains("no .exr stacks"));
   CHECK(run("estimate x.exr --hemisphere up").code == 2);
 }
+
+TEST_CASE("--site unknown: the ephemeris declines, auto is site-free; skypol methods lists the registry",
+          "[cli][site]") {
+  TempDir dir;
+  const std::string stack = (dir.path / "marseille.exr").string();
+  const std::string scene = std::string(SKYPOL_SOURCE_DIR) + "/scenes/skypole-marseille.toml";
+  REQUIRE(run("render -q " + scene + " --set camera.binning=16 --set time.step_min=60 -o " + stack).code == 0);
+  const Result with = run("estimate -q " + stack + " -m sun_vector_ephemeris,auto --json");
+  INFO(with.out);
+  REQUIRE(with.code == 0);
+  CHECK(count(with.out, "\"valid\": true") == 2);
+  CHECK_THAT(with.out, Catch::Contains("the answer of sun_vector_ephemeris"));
+  const Result without = run("estimate -q " + stack + " -m sun_vector_ephemeris,auto --site unknown --json");
+  INFO(without.out);
+  REQUIRE(without.code == 0);
+  CHECK_THAT(without.out, Catch::Contains("needs the site, and it was withheld (--site unknown)"));
+  CHECK(count(without.out, "sun_vector_ephemeris") == 2);  // its row's method and its reason; auto names it not
+  CHECK(count(without.out, "\"true_latitude_deg\": 43.28") == 2);  // the truth still scored against
+  const Result eval = run("evaluate -q " + stack + " -m sun_vector_ephemeris --site unknown --csv " +
+                          (dir.path / "rows.csv").string());
+  CHECK(eval.code == 0);
+  CHECK_THAT(eval.out, Catch::Contains("0/1"));
+  const Result bad = run("estimate " + stack + " --site Marseille");
+  CHECK(bad.code == 2);
+  CHECK_THAT(bad.out, Catch::Contains("--site") && Catch::Contains("expected stack or unknown"));
+
+  const Result list = run("methods --json");
+  REQUIRE(list.code == 0);
+  CHECK(list.out.front() == '[');
+  CHECK(count(list.out, "\"name\": ") == 6);
+  CHECK_THAT(list.out, Catch::Contains("{\"name\": \"sun_vector_ephemeris\"") && Catch::Contains("\"needs_site\": true"));
+  CHECK_THAT(run("methods").out, Catch::Contains("needs the site") && Catch::Contains("auto"));
+  CHECK_THAT(run("estimate --help").out, Catch::Contains("sun_dolp, auto, or all") && Catch::Contains("--site"));
+}

@@ -258,6 +258,26 @@ class EstimatesMatchCli(Tmp):
             self.assertLess(abs(e.score["bearing_error_deg"]), 2.0, e.method)
             self.assertGreater(e.seconds, 0)
 
+    def test_registry_and_site(self):
+        # The registry is the CLI's (`skypol methods --json`), and method_names() its names and auto.
+        reg = skypol.methods()
+        self.assertEqual(reg, json.loads(cli("methods", "--json").stdout))
+        self.assertEqual(list(skypol.method_names()), [m["name"] for m in reg] + ["auto"])
+        site = [m["name"] for m in reg if m["needs_site"]]
+        self.assertEqual(site, ["sun_vector_ephemeris"])
+        self.assertIsNone(next(m for m in reg if m["name"] == "classic")["calibration"]["max_residual_deg"])
+        # site="unknown" as --site unknown: the ephemeris refuses the input, saying why (as on a capture
+        # without its site); auto leaves it out.
+        scene = skypol.load_scene(MARSEILLE, overrides={"camera.binning": 16, "time.step_min": 60})
+        stack = skypol.render_stack(scene)
+        with self.assertRaisesRegex(ValueError, "--site unknown"):
+            skypol.estimate(stack, "sun_vector_ephemeris", site="unknown")
+        self.assertTrue(skypol.estimate(stack, "sun_vector_ephemeris").valid)
+        a = skypol.estimate(stack, "auto", site="unknown")
+        self.assertNotIn("sun_vector_ephemeris", a.note)
+        with self.assertRaisesRegex(ValueError, "stack or unknown"):
+            skypol.estimate(stack, "auto", site="nowhere")
+
     def test_arrays_and_times(self):
         scene = skypol.load_scene(MARSEILLE, overrides=self.SCENE)
         stack = skypol.render_stack(scene, channels=["DoLP", "AoLP", "mask"])

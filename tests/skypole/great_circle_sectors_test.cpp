@@ -107,7 +107,7 @@ TEST_CASE("great_circle without a sky sector, from its kept crossings, answers a
 
 TEST_CASE("great_circle's sector jackknife sees a wrong sky in one sector that the frame jackknife misses",
           "[skypole][great_circle][sectors]") {
-  CHECK(skypole::has_sector_jackknife("great_circle"));
+  CHECK(skypole::method_entry("great_circle").traits.sector_jackknife);
   const stack::Stack clear = testing::make_stack(testing::paper_day(96, 30, 0));
   const stack::Stack veiled = veiled_day(clear);
   const testing::ClearAndVeiled r = testing::read_clear_and_veiled("great_circle", clear, veiled, uncalibrated());

@@ -54,7 +54,7 @@ stack::Stack veiled_near_pole(const stack::Stack& clear, double offset_deg, doub
 
 TEST_CASE("invariance's sector refits cost its answer nothing and answer beside it on a clear day",
           "[skypole][invariance][sectors]") {
-  CHECK(skypole::has_sector_jackknife("invariance"));
+  CHECK(skypole::method_entry("invariance").traits.sector_jackknife);
   const stack::Stack clear = testing::make_stack(testing::paper_day(96, 30, 0));
   skypole::InvarianceParams p;
   p.input = uncalibrated();

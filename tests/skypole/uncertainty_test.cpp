@@ -11,6 +11,7 @@
 
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
+#include "hand_poles.h"
 #include "jackknife_reading.h"
 #include "synthetic_stack.h"
 
@@ -19,17 +20,7 @@ using namespace skypol;
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-skypole::PoleEstimate pole_at(double azimuth_deg, double altitude_deg) {
-  skypole::PoleEstimate e;
-  e.valid = true;
-  e.is_north = true;
-  e.altitude_deg = altitude_deg;
-  e.azimuth_rel_deg = azimuth_deg;
-  const double a = azimuth_deg * kDeg, h = altitude_deg * kDeg;
-  e.pole_level = Eigen::Vector3d(std::cos(h) * std::sin(a), std::cos(h) * std::cos(a), std::sin(h));
-  e.pole_camera = e.pole_level;
-  return e;
-}
+using testing::pole_at;
 }  // namespace
 
 TEST_CASE("covariance to σ and cone: the formulas worked by hand", "[skypole][uncertainty]") {
@@ -63,7 +54,7 @@ TEST_CASE("few jackknife groups widen the cone to the F(2, ν) quantile", "[skyp
   CHECK(skypole::few_groups_widening2(1.0, 10001, 0.0, 0) == Approx(1.0).epsilon(1e-3));
   CHECK(skypole::frame_jackknife_groups(3) == 3);
   CHECK(skypole::frame_jackknife_groups(24) == 6);
-  // great_circle's delete-one jackknife (evaluate.h frame_jackknife_max_groups): one frame a group,
+  // great_circle's delete-one jackknife (method_registry.h MethodTraits::frame_jackknife_max_groups): one frame a group,
   // up to 24.
   CHECK(skypole::frame_jackknife_groups(19, 24) == 19);
   CHECK(skypole::frame_jackknife_groups(30, 24) == 24);
