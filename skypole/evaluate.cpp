@@ -49,7 +49,7 @@ std::string csv_field(const std::string& s) {
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names = {"classic", "great_circle", "invariance",
                                                  "sun_vector", "sun_vector_ephemeris",
-                                                 "sun_dolp", "auto"};
+                                                 "sun_dolp", "sun_azimuth", "auto"};
   return names;
 }
 
@@ -70,7 +70,7 @@ double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
 
 bool has_sector_jackknife(std::string_view method) {
   return method == "sun_vector" || method == "sun_vector_ephemeris" || method == "sun_dolp" ||
-         method == "great_circle" || method == "invariance";
+         method == "great_circle" || method == "invariance" || method == "sun_azimuth";
 }
 
 int frame_jackknife_max_groups(std::string_view method) { return method == "great_circle" ? 24 : 6; }
@@ -261,6 +261,8 @@ const std::vector<MethodCalibration>& method_calibrations() {
        .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 1.0},
       {.method = "sun_vector_ephemeris", .inflation = 0.4, .floor_deg = 0.0003, .max_residual_deg = 5.0,
        .max_unpolarized_share = 0.3, .sector_inflation = 0.1, .elevation_share = 0.25},
+      {.method = "sun_azimuth", .inflation = 1.0, .floor_deg = 0.02, .max_residual_deg = 5.0,
+       .sector_inflation = 1.0, .unpolarized_deg = 1.0},
       {.method = "sun_dolp", .inflation = 0.25, .floor_deg = 0.03, .max_residual_deg = 5.0,
        .max_model_misfit = 0.01, .sector_inflation = 0.5, .unpolarized_deg = 1.0},
   };

@@ -8,6 +8,7 @@
 #include "skypole/evaluate.h"
 #include "skypole/great_circle.h"
 #include "skypole/invariance.h"
+#include "skypole/sun_azimuth.h"
 #include "skypole/sun_vector.h"
 
 namespace skypol::skypole {
@@ -46,6 +47,11 @@ PoleEstimate run_bare(const SkyView& view, std::string_view method) {
     PoleEstimate e = estimate_sun_vector(view, p).estimate;
     e.method = std::string(method);
     return e;
+  }
+  if (method == "sun_azimuth") {
+    SunAzimuthParams p;
+    p.input = input;
+    return estimate_sun_azimuth(view, p);
   }
   std::string legal;
   for (const auto& n : method_names()) legal += (legal.empty() ? "" : ", ") + n;
