@@ -10,7 +10,10 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
 
+#include "camera/camera.h"
+#include "camera/lens.h"
 #include "sky/sun.h"
 #include "skypole/sky_images.h"
 #include "skypole/sun_vector.h"
@@ -23,17 +26,37 @@ constexpr double kDeg = kPi / 180.0;
 double wrap_pi(double a) { return std::remainder(a, 2 * kPi); }
 
 // What the fit needs of each frame: the measured level-frame azimuth and the cosine of the
-// measured elevation (the residual's weight), and the sun's site-free equatorial place.
+// measured elevation (the residual's weight), and the sun's geocentric direction in the Earth-fixed
+// equatorial frame (x towards latitude 0, longitude 0; z north).
 struct Sight {
   double azimuth = 0, weight = 0, elevation = 0;
-  double sin_dec = 0, cos_dec = 0, gha = 0;
+  Eigen::Vector3d geocentric = Eigen::Vector3d::UnitX();
 };
 
-// The sun's ENU direction for an observer at (φ, λ) (radians).
+// The Earth's equatorial radius over the astronomical unit: the sun's horizontal parallax (8.79″).
+constexpr double kParallax = 6378.137 / 149597870.7;
+
+// The sun's ENU direction for an observer at (φ, λ) (radians), parallax included: the geocentric
+// direction less the observer's offset from the Earth's centre, in solar distances.
 Eigen::Vector3d sun_enu(const Sight& s, double lat, double lon) {
-  const double h = s.gha + lon, sl = std::sin(lat), cl = std::cos(lat);
-  return {-s.cos_dec * std::sin(h), s.sin_dec * cl - s.cos_dec * std::cos(h) * sl,
-          s.sin_dec * sl + s.cos_dec * std::cos(h) * cl};
+  const double sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
+  const Eigen::Vector3d up(cl * co, cl * so, sl), east(-so, co, 0), north(-sl * co, -sl * so, cl);
+  const Eigen::Vector3d w = s.geocentric - kParallax * up;
+  return Eigen::Vector3d(w.dot(east), w.dot(north), w.dot(up)).normalized();
+}
+
+// The sun's geocentric direction at t (Earth-fixed equatorial frame): ERFA's topocentric places
+// seen from two antipodal points of the equator, whose parallaxes (and diurnal aberrations) cancel
+// in their mean to second order (10⁻⁹ rad).
+Eigen::Vector3d geocentric_sun(sky::Instant t) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const double lon_deg : {0.0, 180.0}) {
+    const sky::Sun g = sky::sun_position(sky::Site{0, lon_deg, 0}, t);
+    const double gha = g.hour_angle - lon_deg * kDeg;  // the hour angle at Greenwich
+    sum += Eigen::Vector3d(std::cos(g.declination) * std::cos(gha), -std::cos(g.declination) * std::sin(gha),
+                           std::sin(g.declination));
+  }
+  return sum.normalized();
 }
 
 // The heading that best aligns predicted and measured azimuths at (φ, λ): the weighted circular
@@ -121,6 +144,62 @@ Minimum refine(const std::vector<Sight>& sights, Eigen::Vector3d x) {
   return {x, cost};
 }
 
+// The sun of one frame refitted on the pixels whose mirror image about the sun's vertical plane is
+// usable too (sun_azimuth.h: a symmetric sample of a symmetric field keeps the fitted sun in the
+// plane; a tilted camera, a cloud or clipping on one side would otherwise pull it off). Twice, each
+// time about the last sun's vertical. nullopt when too few pixels have a usable mirror.
+std::optional<Eigen::Vector3d> symmetric_sun(const SkyImages& sky, const std::vector<float>& dolp,
+                                             const FrameEVectors& ev, double min_dolp, bool robust,
+                                             Eigen::Vector3d sun) {
+  const std::size_t n = sky.pixels();
+  std::vector<std::uint8_t> usable(n, 0);
+  constexpr std::uint8_t kRead = FrameEVectors::kDefined | FrameEVectors::kFiniteAolp;
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < ev.pixel.size(); ++k) {
+    const std::size_t i = ev.pixel[k];
+    if (sky.valid[i] && (ev.flags[k] & kRead) == kRead && static_cast<double>(dolp[i]) >= min_dolp) {
+      usable[i] = 1;
+      ++count;
+    }
+  }
+  // At most ~60k pixels are mirrored (a regular stride, as sun_from_dolp thins its pixels): each
+  // costs a lens projection, and the fit's noise is already far below the sky's own departures.
+  const int stride = std::max(1, static_cast<int>(std::floor(std::sqrt(static_cast<double>(count) / 60000.0))));
+  SkyImages half;  // what sun_from_aolp reads of a sky: the pixels it may use and the level frame
+  half.width = sky.width;
+  half.height = sky.height;
+  half.level_from_camera = sky.level_from_camera;
+  const Eigen::Matrix3d camera_from_level = sky.level_from_camera.transpose();
+  for (int round = 0; round < 2; ++round) {
+    const Eigen::Vector3d l = sky.level_from_camera * sun;
+    const double h = std::hypot(l.x(), l.y());
+    if (h < 1e-6) return sun;  // a sun at the zenith: every vertical is its mirror plane
+    const Eigen::Vector3d normal(-l.y() / h, l.x() / h, 0);
+    half.valid.assign(n, 0);
+    int kept = 0;
+    for (int y = 0; y < sky.height; y += stride)
+      for (int x = 0; x < sky.width; x += stride) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) + static_cast<std::size_t>(x);
+        if (!usable[i]) continue;
+        const Eigen::Vector3d d = sky.level_from_camera * to_double(sky.ray_camera[i]);
+        const Eigen::Vector3d mirrored = camera_from_level * (d - 2 * d.dot(normal) * normal);
+        const auto px = sky.lens->project(mirrored);
+        if (!px) continue;
+        const long mx = std::lround(px->x()), my = std::lround(px->y());
+        if (mx < 0 || my < 0 || mx >= sky.width || my >= sky.height) continue;
+        if (!usable[static_cast<std::size_t>(my) * static_cast<std::size_t>(sky.width) + static_cast<std::size_t>(mx)]) continue;
+        half.valid[i] = 1;
+        ++kept;
+      }
+    if (kept < 50) return std::nullopt;
+    half.valid_count = kept;
+    const auto refit = sun_from_aolp(half, dolp, ev, min_dolp, nullptr, robust);
+    if (!refit) return std::nullopt;
+    sun = *refit;
+  }
+  return sun;
+}
+
 }  // namespace
 
 AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
@@ -137,10 +216,7 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
     s.azimuth = std::atan2(l.x(), l.y());
     s.elevation = std::asin(std::clamp(l.z(), -1.0, 1.0));
     s.weight = std::hypot(l.x(), l.y());
-    const sky::Sun g = sky::sun_position(sky::Site{}, times[t]);
-    s.sin_dec = std::sin(g.declination);
-    s.cos_dec = std::cos(g.declination);
-    s.gha = g.hour_angle;
+    s.geocentric = geocentric_sun(times[t]);
     sights.push_back(s);
   }
   // The grid: cost at every (φ, λ) with ψ in closed form; its local minima are the starts.
@@ -191,6 +267,7 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
   fix.longitude_deg = best.x(1) / kDeg;
   fix.heading_deg = best.x(2) / kDeg;
   fix.rms_rad = std::sqrt(best.cost / static_cast<double>(sights.size()));
+  fix.elevation_rms_deg = elevation_rms(sights, best.x(0), best.x(1)) / kDeg;
   if (minima.size() > 1) fix.second_cost_ratio = minima[1].cost / std::max(best.cost, 1e-300);
   if (minima.size() > 1 && minima[1].cost <= (1 + ambiguity_margin) * best.cost) {
     char buf[200];
@@ -225,10 +302,25 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
   if (!found.why.empty()) return fail(found.why);
   const SkyImages& sky = found.sky;
   if (!sky.times_known) return fail("the frames carry no distinct times: the fix needs the clock");
+  // Each frame's sun again on its symmetric sample (in parallel).
+  const std::size_t frames = found.suns_camera.size();
+  std::vector<std::optional<Eigen::Vector3d>> suns(frames);
+  const std::vector<const std::vector<float>*> aolp = aolp_channels(view.frames(), sky, kMethod);
+  tbb::parallel_for(std::size_t{0}, frames, [&](std::size_t t) {
+    // A view whose sky has pixels the whole stack's lacks has no cached E-vectors: made here.
+    std::optional<FrameEVectors> own;
+    if (!found.e_vectors[t])
+      own = frame_e_vectors(sky, sky.dolp[t], *aolp[t], view.stack().camera->transport(), params.min_dolp);
+    const FrameEVectors& ev = own ? *own : *found.e_vectors[t];
+    suns[t] = symmetric_sun(sky, sky.dolp[t], ev, params.min_dolp, params.input.sky_mask, found.suns_camera[t]);
+  });
   std::vector<Eigen::Vector3d> level;
   std::vector<sky::Instant> times;
-  for (std::size_t t = 0; t < found.suns_camera.size(); ++t) {
-    level.push_back(sky.level_from_camera * found.suns_camera[t]);
+  for (std::size_t t = 0; t < frames; ++t) {
+    if (!suns[t])
+      return fail("frame " + std::to_string(t) + " has too few polarized pixels whose mirror image about the "
+                  "sun's vertical is sky too");
+    level.push_back(sky.level_from_camera * *suns[t]);
     times.push_back(view.frames()[t]->truth.time);
   }
   const AzimuthFix fix = fix_from_sun_azimuths(level, times, params.ambiguity_margin);
@@ -239,7 +331,8 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
   const Eigen::Vector3d ncp = sky.level_from_camera.transpose() * world_from_level.transpose() * ncp_world;
   PoleEstimate e = make_estimate(kMethod, sky, ncp, params.input);
   char buf[120];
-  std::snprintf(buf, sizeof buf, "fitted longitude %.3f°", fix.longitude_deg);
+  std::snprintf(buf, sizeof buf, "fitted longitude %.3f°; suns' elevations %.3f° rms from the fit's", fix.longitude_deg,
+                fix.elevation_rms_deg);
   e.note += (e.note.empty() ? "" : "; ") + std::string(buf);
   e.residual_deg = fix.rms_rad / kDeg;
   e.seconds = seconds();

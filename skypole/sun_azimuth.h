@@ -10,11 +10,10 @@
 // its vertical, alike in every frame and sector, where no jackknife sees it. So this method reads
 // only the level-frame azimuths a_t of the suns.
 //
-// Why the clock is enough. The sun's apparent declination δ_t and Greenwich hour angle G_t at the
-// frames' UTC times need no site (ERFA: sky::sun_position at latitude and longitude 0 gives them to
-// the sun's parallax, ≤ 8.8″). An observer at latitude φ and longitude λ sees the sun at hour angle
-// H_t = G_t + λ, i.e. in ENU
-//     east = −cos δ sin H,  north = sin δ cos φ − cos δ cos H sin φ,  up = sin δ sin φ + cos δ cos H cos φ,
+// Why the clock is enough. The sun's geocentric direction at the frames' UTC times needs no site
+// (ERFA, sky::sun_position); an observer at latitude φ and longitude λ sees it from its place on
+// the Earth, i.e. in ENU the geocentric direction less the observer's offset from the centre (the
+// sun's parallax, ≤ 8.8″, so that the fit holds to 10⁻⁴°),
 // and at level-frame azimuth A_t(φ, λ) − ψ, ψ the camera's heading (estimate.h). The fit finds
 // (φ, λ, ψ) minimising Σ [cos e_t · wrap(a_t − A_t + ψ)]²: the azimuth residual times the cosine of
 // the sun's measured elevation is its angle across the vertical plane, the size of the sun fit's
@@ -62,6 +61,7 @@ struct AzimuthFix {
   double longitude_deg = 0;
   double heading_deg = 0;  // world azimuth = level azimuth + heading
   double rms_rad = 0;      // RMS of cos e · azimuth residual
+  double elevation_rms_deg = 0;  // RMS of the measured suns' elevations less the fitted site's
   double second_cost_ratio = 0;  // the best distinct second minimum's cost over the best one's (0: none)
 };
 AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,

@@ -330,7 +330,8 @@ FrameSuns find_aolp_suns(const SkyView& view, const InputOptions& input, double 
   found.sky = view.prepared(min_frames, method);
   SkyImages& sky = found.sky;
   // The frames' E-vectors, computed once for the whole stack (usable on this sky and its mask).
-  const std::vector<const FrameEVectors*> e_vectors = view.e_vectors(sky);
+  found.e_vectors = view.e_vectors(sky);
+  const std::vector<const FrameEVectors*>& e_vectors = found.e_vectors;
   if (input.sky_mask) apply_mask(sky, view.sky_mask(sky));
   // The AoLP channels are read where the fits are (StackSky, SkyView::aolp_suns); here a frame
   // without one is named.

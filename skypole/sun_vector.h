@@ -142,6 +142,7 @@ struct FrameSuns {
   SkyImages sky;                             // the sky the suns were fitted on
   std::vector<Eigen::Vector3d> suns_camera;  // per frame, unit, above the horizon
   std::vector<double> quality;               // λ0/λ1 of each fit
+  std::vector<const FrameEVectors*> e_vectors;  // each frame's, on `sky` (the view's cache)
   std::string why;
 };
 FrameSuns find_aolp_suns(const SkyView& view, const InputOptions& input, double min_dolp, const char* method,

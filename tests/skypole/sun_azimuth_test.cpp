@@ -40,8 +40,8 @@ TEST_CASE("the azimuth fix recovers latitude, longitude and heading from exact s
     const char* end;
     double heading;
   };
-  // The sun's parallax (≤ 8.8″) separates the site's topocentric sun from the site-free model: the
-  // fix is exact to that.
+  // The fix models the sun's parallax (8.8″) but not its diurnal aberration (≤ 0.32″, 1e-4°) nor the
+  // ellipsoid's tilt of the observer's offset (≤ 0.19° of the 8.8″).
   const Case cases[] = {
       {"Marseille equinox day", {43.28699, 5.40336, 60}, "2022-09-23T08:00Z", "2022-09-23T16:00Z", 37},
       {"Sydney winter", {-33.87, 151.21, 0}, "2023-06-20T22:00Z", "2023-06-21T04:00Z", 200},
@@ -53,10 +53,10 @@ TEST_CASE("the azimuth fix recovers latitude, longitude and heading from exact s
     const auto times = testing::times_every(c.start, c.end, 30);
     const skypole::AzimuthFix fix = skypole::fix_from_sun_azimuths(level_suns(c.site, times, c.heading), times);
     REQUIRE(fix.ok);
-    CHECK(std::abs(fix.latitude_deg - c.site.latitude_deg) < 0.005);
-    CHECK(std::abs(wrap180(fix.longitude_deg - c.site.longitude_deg)) < 0.005 / std::cos(c.site.latitude_deg * kDegT));
-    CHECK(std::abs(wrap180(fix.heading_deg - c.heading)) < 0.005);
-    CHECK(fix.rms_rad < 1e-4);
+    CHECK(std::abs(fix.latitude_deg - c.site.latitude_deg) < 5e-4);
+    CHECK(std::abs(wrap180(fix.longitude_deg - c.site.longitude_deg)) < 5e-4 / std::cos(c.site.latitude_deg * kDegT));
+    CHECK(std::abs(wrap180(fix.heading_deg - c.heading)) < 5e-4);
+    CHECK(fix.rms_rad < 1e-5);
   }
 }
 
