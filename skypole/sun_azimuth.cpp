@@ -93,6 +93,11 @@ double elevation_rms(const std::vector<Sight>& sights, double lat, double lon) {
   return std::sqrt(sq / static_cast<double>(sights.size()));
 }
 
+// The north celestial pole in the level frame for x = (φ, λ, ψ): at altitude φ, level azimuth −ψ.
+Eigen::Vector3d level_pole(const Eigen::Vector3d& x) {
+  return {-std::sin(x(2)) * std::cos(x(0)), std::cos(x(2)) * std::cos(x(0)), std::sin(x(0))};
+}
+
 struct Minimum {
   Eigen::Vector3d x;
   double cost = 0;
@@ -252,8 +257,10 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
     const double lat = lat_of(ij[0]), lon = lon_of(ij[1]);
     const Minimum m = refine(sights, Eigen::Vector3d(lat, lon, best_heading(sights, lat, lon)));
     if (!std::isfinite(m.cost) || elevation_rms(sights, m.x(0), m.x(1)) > kElevationGrossRad) continue;
+    // Two minima are one answer when they put the pole (what a user asks for) at the same place:
+    // at a geographic pole every longitude does, with its own heading.
     const bool seen = std::any_of(minima.begin(), minima.end(), [&](const Minimum& o) {
-      return std::abs(o.x(0) - m.x(0)) < 0.5 * kDeg && std::abs(wrap_pi(o.x(1) - m.x(1))) < 0.5 * kDeg;
+      return level_pole(o.x).dot(level_pole(m.x)) > std::cos(0.5 * kDeg);
     });
     if (!seen) minima.push_back(m);
   }

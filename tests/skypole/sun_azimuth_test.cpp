@@ -109,3 +109,17 @@ TEST_CASE("sun_azimuth finds the pole on a Rayleigh day and on Berry's sky with 
     CHECK(s.angular_error_deg < 0.05);
   }
 }
+
+TEST_CASE("the azimuth fix at a geographic pole: latitude holds, longitude and heading trade off",
+          "[skypole][sun_azimuth][hard]") {
+  // At the pole the sun's azimuth turns at the hour angle's rate whatever the longitude, so only
+  // longitude − heading is fixed; the latitude still is, and nothing becomes NaN.
+  const sky::Site pole{90, 0, 0};
+  const auto times = testing::times_every("2022-06-21T00:00Z", "2022-06-21T12:00Z", 60);
+  const skypole::AzimuthFix fix = skypole::fix_from_sun_azimuths(level_suns(pole, times, 40), times);
+  INFO(fix.why);
+  REQUIRE(fix.ok);
+  CHECK(fix.latitude_deg > 89.9);
+  CHECK(std::isfinite(fix.longitude_deg));
+  CHECK(std::isfinite(fix.heading_deg));
+}
