@@ -261,8 +261,8 @@ const std::vector<MethodCalibration>& method_calibrations() {
        .max_model_misfit = 0.01, .sector_inflation = 0.25, .unpolarized_deg = 1.0},
       {.method = "sun_vector_ephemeris", .inflation = 0.4, .floor_deg = 0.0003, .max_residual_deg = 5.0,
        .max_unpolarized_share = 0.3, .sector_inflation = 0.1, .elevation_share = 0.25},
-      {.method = "sun_azimuth", .inflation = 1.0, .floor_deg = 0.02, .max_residual_deg = 5.0,
-       .sector_inflation = 1.0, .unpolarized_deg = 1.0},
+      {.method = "sun_azimuth", .inflation = 0.7, .floor_deg = 0.002, .max_residual_deg = 5.0,
+       .sector_inflation = 0.35},
       {.method = "sun_dolp", .inflation = 0.25, .floor_deg = 0.03, .max_residual_deg = 5.0,
        .max_model_misfit = 0.01, .sector_inflation = 0.5, .unpolarized_deg = 1.0},
   };
