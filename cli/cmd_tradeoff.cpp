@@ -38,6 +38,7 @@ void write_meta(const studies::tradeoff::StudyOptions& o, const std::string& whi
   meta.row().set("key", "no_cloud_gate").set("value", o.no_cloud_gate);
   meta.row().set("key", "no_sky_mask").set("value", o.no_sky_mask);
   meta.row().set("key", "noise_draw").set("value", o.noise_draw);
+  meta.row().set("key", "population").set("value", o.population);
   std::string methods;
   for (const std::string& m : o.methods) methods += (methods.empty() ? "" : ",") + m;
   meta.row().set("key", "methods").set("value", methods.empty() ? std::string("all") : methods);
@@ -92,6 +93,10 @@ void add_tradeoff(CLI::App& app) {
                   "calibration: run only these scenes of the seeded population, comma-separated indices (the CSV's "
                   "`stack` column; default: all), the same scenes as in the whole run")
       ->delimiter(',');
+  cmd->add_option("--population", a->options.population,
+                  "calibration: mixed (default: Rayleigh and Berry in 70 % of the scenes, 12 vrte atmospheres) or "
+                  "realistic (vrte in 70 %, every OPAC aerosol, tau(550) 0.02-0.8 log-uniform, albedo 0-0.35)")
+      ->check(CLI::IsMember({"mixed", "realistic"}));
   cmd->add_option("--noise-draw", a->options.noise_draw,
                   "calibration: the sensor's noise draw (0: each scene's own; k > 0: new noise for the same scenes, "
                   "their noise replicates)")

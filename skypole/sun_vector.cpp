@@ -324,6 +324,32 @@ double rayleigh_law_misfit(const SkyView& view) {
   return fitted.empty() ? 1.0 : quantile(fitted, 0.5);
 }
 
+FrameSuns find_aolp_suns(const SkyView& view, const InputOptions& input, double min_dolp, const char* method,
+                         std::size_t min_frames) {
+  FrameSuns found;
+  found.sky = view.prepared(min_frames, method);
+  SkyImages& sky = found.sky;
+  // The frames' E-vectors, computed once for the whole stack (usable on this sky and its mask).
+  found.e_vectors = view.e_vectors(sky);
+  const std::vector<const FrameEVectors*>& e_vectors = found.e_vectors;
+  if (input.sky_mask) apply_mask(sky, view.sky_mask(sky));
+  // The AoLP channels are read where the fits are (StackSky, SkyView::aolp_suns); here a frame
+  // without one is named.
+  (void)aolp_channels(view.frames(), sky, method);
+  std::vector<double> quality;
+  const auto suns = view.aolp_suns(sky, e_vectors, min_dolp, input.sky_mask, &quality);
+  for (std::size_t t = 0; t < sky.frames(); ++t) {
+    if (!suns[t]) {
+      found.why = "frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
+                  std::to_string(min_dolp) + ") to find the sun from the AoLP";
+      return found;
+    }
+    found.suns_camera.push_back(*suns[t]);
+    found.quality.push_back(quality[t]);
+  }
+  return found;
+}
+
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params) {
   const StackSky whole(stack, params.input);
   return estimate_sun_vector(SkyView(whole), params);
@@ -337,18 +363,6 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
                                                                : "sun_vector";
   const std::size_t min_frames = params.mode == PoleFromSun::circle ? 3 : 1;
   const FrameRefs& frames = view.frames();
-  SkyImages sky = view.prepared(min_frames, method);
-  // The frames' E-vectors, computed once for the whole stack (usable on this sky and its mask).
-  const std::vector<const FrameEVectors*> e_vectors =
-      params.source == SunSource::aolp ? view.e_vectors(sky) : std::vector<const FrameEVectors*>(sky.frames());
-  RayleighFits fits;  // SunSource::dolp's suns (it masks the sky as it fits)
-  if (params.source == SunSource::dolp)
-    fits = fit_rayleigh_law(sky, view, params.input.sky_mask, params.model_misfit);
-  else if (params.input.sky_mask)
-    apply_mask(sky, view.sky_mask(sky));
-  // The AoLP channels are read where the fits are (StackSky, SkyView::aolp_suns); here a frame
-  // without one is named.
-  if (params.source == SunSource::aolp) (void)aolp_channels(frames, sky, method);
   SunVectorResult result;
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -360,24 +374,32 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
   };
 
   // Each frame's sun on its own (in parallel); the first failing frame is reported.
-  std::vector<std::optional<Eigen::Vector3d>> suns = fits.suns;
-  std::vector<double> quality = fits.rms;
-  const std::vector<double>& misfit = fits.misfit;
-  if (params.source == SunSource::aolp)
-    suns = view.aolp_suns(sky, e_vectors, params.min_dolp, params.input.sky_mask, &quality);
-  for (std::size_t t = 0; t < sky.frames(); ++t) {
-    if (!suns[t]) {
-      if (params.source == SunSource::aolp)
-        return fail("frame " + std::to_string(t) + " has too few polarized pixels (DoLP ≥ " +
-                    std::to_string(params.min_dolp) + ") to find the sun from the AoLP");
-      if (!fits.starts[t])
-        return fail("frame " + std::to_string(t) + " shows no sun-like DoLP minimum above the "
-                    "horizon to start the Rayleigh fit from");
-      return fail("the Rayleigh fit of frame " + std::to_string(t) + " failed");
+  SkyImages sky;
+  RayleighFits fits;  // SunSource::dolp's suns (it masks the sky as it fits)
+  std::vector<std::optional<Eigen::Vector3d>> suns;
+  if (params.source == SunSource::aolp) {
+    FrameSuns found = find_aolp_suns(view, params.input, params.min_dolp, method, min_frames);
+    if (!found.why.empty()) return fail(std::move(found.why));
+    sky = std::move(found.sky);
+    result.suns_camera = std::move(found.suns_camera);
+    result.sun_quality = std::move(found.quality);
+    for (const auto& s : result.suns_camera) suns.emplace_back(s);
+  } else {
+    sky = view.prepared(min_frames, method);
+    fits = fit_rayleigh_law(sky, view, params.input.sky_mask, params.model_misfit);
+    suns = fits.suns;
+    for (std::size_t t = 0; t < sky.frames(); ++t) {
+      if (!suns[t]) {
+        if (!fits.starts[t])
+          return fail("frame " + std::to_string(t) + " shows no sun-like DoLP minimum above the "
+                      "horizon to start the Rayleigh fit from");
+        return fail("the Rayleigh fit of frame " + std::to_string(t) + " failed");
+      }
+      result.suns_camera.push_back(*suns[t]);
+      result.sun_quality.push_back(fits.rms[t]);
     }
-    result.suns_camera.push_back(*suns[t]);
-    result.sun_quality.push_back(quality[t]);
   }
+  const std::vector<double>& misfit = fits.misfit;
 
   if (params.mode == PoleFromSun::ephemeris) {
     const sky::Site site = params.site.value_or(frames.front()->truth.site);

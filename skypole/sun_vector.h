@@ -134,6 +134,20 @@ RayleighFits fit_rayleigh_law(SkyImages& sky, const SkyView& view, bool sky_mask
 double rayleigh_law_misfit(const stack::Stack& stack, const InputOptions& input);
 double rayleigh_law_misfit(const SkyView& view);  // with the view's input
 
+// Each frame's sun from its AoLP on a view, as sun_vector reads them (the prepared sky, masked when
+// input.sky_mask, the cached E-vectors): shared by the methods that read the suns' directions.
+// `why` is set (and the suns are incomplete) when a frame has too few polarized pixels; the
+// prepared sky's own failures throw, naming `method`.
+struct FrameSuns {
+  SkyImages sky;                             // the sky the suns were fitted on
+  std::vector<Eigen::Vector3d> suns_camera;  // per frame, unit, above the horizon
+  std::vector<double> quality;               // λ0/λ1 of each fit
+  std::vector<const FrameEVectors*> e_vectors;  // each frame's, on `sky` (the view's cache)
+  std::string why;
+};
+FrameSuns find_aolp_suns(const SkyView& view, const InputOptions& input, double min_dolp, const char* method,
+                         std::size_t min_frames);
+
 // SunSource::aolp needs the "AoLP.<band>" channel; circle mode at least 3 frames, ephemeris mode 1.
 SunVectorResult estimate_sun_vector(const stack::Stack& stack, const SunVectorParams& params = {});
 // The same on a view of a stack (stack_sky.h: a jackknife's sub-run); params.input is the view's.

@@ -30,6 +30,7 @@
 #include "render/sensor_stage.h"
 #include "scene/scene.h"
 #include "scene/truth.h"
+#include "sky/aerosol_types.h"
 #include "sky/sky_spec.h"
 #include "sky/sun.h"
 #include "skypole/cloud_share.h"
@@ -86,20 +87,44 @@ double sun_elevation_deg(const sky::Site& site, double unix_s) {
   return sky::sun_position(site, sky::Instant{unix_s}).elevation / kDeg;
 }
 
+// What a population draws from (StudyOptions::population). "mixed": sites within 70° of the
+// equator, windows of 20 min to 11 h, Rayleigh in 45 % of the scenes and Berry in 25 %, the vrte
+// sky in 30 % with one of 12 atmospheres (3 aerosols × τ(550) 0.05 or 0.3 × albedo 0.1 or 0.3,
+// whose tables the disk cache keeps). "realistic": the physically based sky in most scenes, its
+// atmosphere drawn from a climatology — every OPAC type, τ(550) log-uniform on 0.02–0.8 (73 % of
+// the draws below 0.3, as sun photometer networks see clear-sky loads), ground albedo uniform on
+// 0–0.35 — sites up to 80° from the equator and windows of 30 min to 12 h; its tables are solved
+// per scene and not cached (each atmosphere is new).
+struct Population {
+  double max_abs_latitude_deg, min_window_min, max_window_min;
+  double rayleigh_share, berry_share;  // the rest is vrte
+  double no_sensor_share, mono_share;  // the rest is colour
+  bool climatology;
+};
+constexpr Population kMixed{70, 20, 660, 0.45, 0.25, 0.15, 0.65, false};
+constexpr Population kRealistic{80, 30, 720, 0.15, 0.15, 0.1, 0.45, true};
+
+const Population& population_of(const std::string& name) {
+  if (name == "mixed") return kMixed;
+  if (name == "realistic") return kRealistic;
+  throw std::invalid_argument("tradeoff calibration: unknown population \"" + name +
+                              "\" (expected one of mixed, realistic)");
+}
+
 // One scene of the population; the sun stays ≥ 3° above the horizon in every frame.
-Draw draw_scene(std::mt19937_64& rng, int index) {
+Draw draw_scene(std::mt19937_64& rng, int index, const Population& pop) {
   std::uniform_real_distribution<double> u(0, 1);
   const std::vector<std::string> lenses = {"equidistant", "equisolid", "stereographic", "orthographic",
                                            "kannala_brandt"};
   for (int attempt = 0;; ++attempt) {
     Draw d;
     d.index = index;
-    d.site = sky::Site{-70 + 140 * u(rng), -180 + 360 * u(rng), 0};
+    d.site = sky::Site{-pop.max_abs_latitude_deg + 2 * pop.max_abs_latitude_deg * u(rng), -180 + 360 * u(rng), 0};
     const int doy = static_cast<int>(365 * u(rng));
     const double jan1_2023 = 1672531200.0;
     const double day0 = jan1_2023 + doy * 86400.0;
-    // log-uniform window 20 min … 11 h; step 2 … 30 min; at most 24 frames (the step grows).
-    d.window_min = 20 * std::exp(u(rng) * std::log(660.0 / 20.0));
+    // log-uniform window; step 2 … 30 min; at most 24 frames (the step grows).
+    d.window_min = pop.min_window_min * std::exp(u(rng) * std::log(pop.max_window_min / pop.min_window_min));
     d.step_min = std::clamp(2 + 28 * u(rng), 2.0, d.window_min / 2);
     d.frames = static_cast<int>(std::floor(d.window_min / d.step_min)) + 1;
     if (d.frames > 24) {
@@ -121,19 +146,26 @@ Draw draw_scene(std::mt19937_64& rng, int index) {
     // Every sky model: single scattering (Rayleigh), Berry's neutral points, and the physically
     // based multiple-scattering sky (vrte: molecules, one OPAC aerosol, a Lambertian ground).
     const double which_sky = u(rng);
-    d.sky_model = which_sky < 0.45 ? "rayleigh" : which_sky < 0.7 ? "berry" : "vrte";
+    d.sky_model = which_sky < pop.rayleigh_share                    ? "rayleigh"
+                  : which_sky < pop.rayleigh_share + pop.berry_share ? "berry"
+                                                                     : "vrte";
     d.max_dolp = 0.5 + 0.3 * u(rng);
-    {
+    const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(u(rng) * static_cast<double>(n)) % n; };
+    if (pop.climatology) {
+      const std::vector<std::string> aerosols = sky::aerosol_type_names();
+      d.aerosol = aerosols[pick(aerosols.size())];
+      d.tau_550 = 0.02 * std::exp(u(rng) * std::log(0.8 / 0.02));
+      d.ground_albedo = 0.35 * u(rng);
+    } else {
       const std::vector<std::string> aerosols = {"continental_clean", "maritime_clean", "urban"};
       const std::vector<double> taus = {0.05, 0.3}, albedos = {0.1, 0.3};
-      const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(u(rng) * static_cast<double>(n)) % n; };
       d.aerosol = aerosols[pick(aerosols.size())];
       d.tau_550 = taus[pick(taus.size())];
       d.ground_albedo = albedos[pick(albedos.size())];
     }
     d.cloud = u(rng) < 0.35 ? 0.0 : 0.5 * u(rng);
     const double s = u(rng);
-    d.sensor = s < 0.15 ? "none" : s < 0.8 ? "mono" : "colour";
+    d.sensor = s < pop.no_sensor_share ? "none" : s < pop.no_sensor_share + pop.mono_share ? "mono" : "colour";
     d.exposure_us = 250 * std::exp(u(rng) * std::log(12.0));  // 0.25 … 3 ms
     d.gain_factor = std::exp((u(rng) - 0.5) * std::log(8.0));  // ×0.35 … ×2.8
     d.seed = rng();
@@ -181,7 +213,7 @@ std::shared_ptr<const camera::Camera> make_camera(const Draw& d, int binning) {
                                           camera::world_from_heading_tilt_roll(d.heading, d.tilt, d.roll));
 }
 
-stack::Stack render_draw(const Draw& d, int binning, int noise_draw) {
+stack::Stack render_draw(const Draw& d, int binning, int noise_draw, const Population& pop) {
   auto cam = make_camera(d, binning);
   sky::SkySpec sky;
   sky.model = d.sky_model;
@@ -201,7 +233,8 @@ stack::Stack render_draw(const Draw& d, int binning, int noise_draw) {
   // One model per band (vrte), or one grey model. The vrte atmosphere is the standard one at
   // 45° latitude for every site (the Rayleigh depth's latitude term is < 0.3 %), so that a table
   // serves every scene with the same aerosol, depth and albedo.
-  const sky::BandSkies skies = sky::make_band_skies(sky, ro.bands, sky::SiteAtmosphere{}, sky::default_table_cache_dir());
+  const sky::BandSkies skies = sky::make_band_skies(sky, ro.bands, sky::SiteAtmosphere{},
+                                                    pop.climatology ? std::filesystem::path{} : sky::default_table_cache_dir());
   std::vector<const sky::SkyModel*> band_skies;
   for (const auto& m : skies.skies) band_skies.push_back(m.get());
   ro.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
@@ -260,6 +293,7 @@ void study_calibration(const StudyOptions& o) {
   const int binning = o.binning > 0 ? o.binning : o.small ? 16 : 8;
   const int count = calibration_count(o);
   check_calibration_scenes(o);
+  const Population& pop = population_of(o.population);
   std::mt19937_64 rng(o.seed);
   Table rows({"stack", "seed", "latitude_deg", "longitude_deg", "date", "window_min", "step_min", "frames",
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "aerosol", "tau_550", "ground_albedo", "cloud",
@@ -293,9 +327,9 @@ void study_calibration(const StudyOptions& o) {
   const std::filesystem::path partial = std::filesystem::path(o.out_dir) / "calibration.partial.csv";
   int scenes_run = 0;
   for (int k = 0; k < count; ++k) {
-    const Draw d = draw_scene(rng, k);  // drawn even when not chosen: the next scenes stay the same
+    const Draw d = draw_scene(rng, k, pop);  // drawn even when not chosen: the next scenes stay the same
     if (!chosen(k)) continue;
-    const stack::Stack stack = render_draw(d, binning, o.noise_draw);
+    const stack::Stack stack = render_draw(d, binning, o.noise_draw, pop);
     // The cloud gate's measure (skypole/cloud_share.h), written for every row so that its
     // threshold can be read off this table; undefined (empty) for a stack with no usable sky
     // pixel (a sensor clipped everywhere), which every method then declines.

@@ -44,6 +44,10 @@ struct StudyOptions {
   // unchanged), so that a calibration can be checked on the noise replicates of its tuning scenes:
   // a few-group jackknife's σ is itself noisy, and one draw of a scene shows only one of its tails.
   int noise_draw = 0;
+  // calibration: which population the scenes are drawn from (tradeoff_calibration.cpp, draw_scene):
+  // "mixed", single scattering in most scenes and a few vrte atmospheres; "realistic", the physically
+  // based sky in most scenes, its atmosphere drawn from a climatology.
+  std::string population = "mixed";
 };
 
 struct Study {
