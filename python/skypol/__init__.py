@@ -391,6 +391,19 @@ def estimate(data: Stack | Mapping[str, Any] | np.ndarray, method: str | Sequenc
     return out[0] if isinstance(method, str) and method != "all" else out
 
 
+def plot_estimate(stack: Stack, estimates: Any, path: str, *, band: str = "", min_elevation_deg: float = 0.0,
+                  frame: int | None = None) -> list[str]:
+    """The picture `skypol estimate --plot` draws (skypole/estimate_plot.h), of `estimates` (an
+    Estimate, a dict of estimate(as_dict=True), or a list of them) on `stack`: a PNG at `path`, or
+    one PNG per method in the folder `path` names (a path ending in "/" or an existing folder).
+    band and min_elevation_deg as given to estimate(); frame: the frame shown (default: the middle
+    one). Returns the files written."""
+    items = estimates if isinstance(estimates, (list, tuple)) else [estimates]
+    dicts = [e if isinstance(e, Mapping) else e.to_dict() for e in items]
+    return _skypol.plot_estimate(stack._h, dicts, str(path), band, float(min_elevation_deg),
+                                 None if frame is None else int(frame))
+
+
 # ------------------------------------------------------------------------------------------- sun
 
 def sun_position(latitude_deg: float, longitude_deg: float, times: Any, *, height_m: float = 0.0,
