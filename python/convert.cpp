@@ -1,5 +1,7 @@
 #include "python/convert.h"
 
+#include <pybind11/stl.h>
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>

@@ -27,7 +27,8 @@ from ._skypol import SceneError, method_names, parse_time, format_time
 __all__ = [
     "SceneError", "Scene", "Camera", "Frame", "Stack", "Estimate",
     "load_scene", "parse_scene", "render_frame", "render_stack", "iter_frames", "read_stack", "write_stack",
-    "stack_from_arrays", "estimate", "method_names", "sun_position", "parse_time", "format_time", "marseille",
+    "stack_from_arrays", "estimate", "plot_estimate", "method_names", "sun_position", "parse_time", "format_time",
+    "marseille",
 ]
 
 
