@@ -347,7 +347,11 @@ LensSpec lens_spec_from_calibration(const Calibration& c) {
   throw std::invalid_argument("unknown calibration format \"" + c.format + "\" (expected colmap, opencv, kalibr, basalt or ocamcalib)");
 }
 
-void fit_fov_to_sensor(LensSpec& s) {
+namespace {
+
+// The lens of `s` at the largest field of view the model accepts, that field of view in *widest;
+// null if it accepts none.
+std::shared_ptr<const Lens> widest_lens(const LensSpec& s, double* widest) {
   // The largest field of view the model accepts: bisection on make_lens (the models check their
   // own limits: a fold, a turning point, the unified models' valid angle).
   auto accepts = [&](double fov) {
@@ -371,6 +375,15 @@ void fit_fov_to_sensor(LensSpec& s) {
     }
     lens = lo > 0 ? accepts(lo) : nullptr;
   }
+  *widest = lo;
+  return lens;
+}
+
+}  // namespace
+
+void fit_fov_to_sensor(LensSpec& s) {
+  double lo = 0;
+  const std::shared_ptr<const Lens> lens = widest_lens(s, &lo);
   if (!lens) return;
   // The farthest corner: every pixel-edge corner that has a ray; one without sees past the limit.
   double theta = 0;
@@ -381,6 +394,23 @@ void fit_fov_to_sensor(LensSpec& s) {
       theta = std::max(theta, std::atan2(std::hypot(d->x(), d->y()), d->z()));
     }
   s.fov_deg = std::min(lo, 2 * theta * 180 / std::numbers::pi);
+}
+
+void fit_fov_to_image_circle(LensSpec& s, double radius_px) {
+  if (!(radius_px > 0)) throw std::invalid_argument("the image circle's radius must be > 0 pixels");
+  double lo = 0;
+  const std::shared_ptr<const Lens> lens = widest_lens(s, &lo);
+  if (!lens) throw std::invalid_argument("the lens model accepts no field of view");
+  const Intrinsics& k = lens->intrinsics();
+  // The smallest angle off the axis at the circle, every 0.5° around it (a pixel without a ray
+  // lies past the model's own limit, which then bounds the field).
+  double theta = std::min(lo / 2 * std::numbers::pi / 180, lens->max_field_angle());
+  for (int a = 0; a < 720; ++a) {
+    const double phi = a * std::numbers::pi / 360;
+    const auto d = lens->ray({k.cx + radius_px * std::cos(phi), k.cy + radius_px * std::sin(phi)});
+    if (d) theta = std::min(theta, std::atan2(std::hypot(d->x(), d->y()), d->z()));
+  }
+  s.fov_deg = 2 * theta * 180 / std::numbers::pi;
 }
 
 }  // namespace skypol::camera

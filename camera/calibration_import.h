@@ -41,4 +41,10 @@ LensSpec lens_spec_from_calibration(const Calibration& c);
 // largest field of view the model accepts. Leaves fov_deg unset if no field of view is accepted.
 void fit_fov_to_sensor(LensSpec& spec);
 
+// Sets spec.fov_deg to what a lens whose image circle has `radius_px` pixels' radius about the
+// principal point images: twice the smallest angle off the axis of a pixel on that circle (so that
+// no pixel beyond the circle is read; where fx ≠ fy, a little of the circle is left out too), cut
+// at the largest field of view the model accepts. Throws std::invalid_argument for a radius ≤ 0.
+void fit_fov_to_image_circle(LensSpec& spec, double radius_px);
+
 }  // namespace skypol::camera

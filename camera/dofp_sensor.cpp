@@ -235,7 +235,9 @@ struct Lattice {
 // Stokes of one band from a raw mosaic. Mosaic position p's samples lie on the lattices
 // lattices[p] (one for a mono sensor or the R and B of a colour one, two for G); each lattice is
 // interpolated bilinearly (nearest row/column repeated beyond its edge) and the lattices averaged.
-void demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> raw, Demosaic mode,
+// T: uint16_t (DN as the ADC gives them) or float (DN after a dark or flat correction).
+template <class T>
+void demosaic_core(const DofpSensor& s, std::span<const T> raw, Demosaic mode,
                    int period, const std::array<std::vector<Lattice>, 4>& lattices, double response,
                    StokesPlanes& out) {
   const int w = s.width, h = s.height;
@@ -252,7 +254,7 @@ void demosaic_core(const DofpSensor& s, std::span<const std::uint16_t> raw, Demo
   const double dark_e = s.dark_current_e_s * t;
   const double scale = 1 / (s.electrons_per_radiance_s * response * t);
   auto radiance = [&](int r, int c) {
-    const double dn = raw[static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c];
+    const auto dn = static_cast<double>(raw[static_cast<std::size_t>(r) * static_cast<std::size_t>(w) + c]);
     return ((dn - s.black_level_dn) / s.gain_dn_per_e - dark_e) * scale;
   };
   auto on_lattice = [&](const Lattice& l, int r, int c) {
@@ -307,6 +309,31 @@ const std::array<std::vector<std::pair<int, int>>, 3> kBandBlocks = {{
     {{1, 1}},          // B
 }};
 
+template <class T>
+void mono_into(const DofpSensor& s, std::span<const T> raw, Demosaic mode, StokesPlanes& out) {
+  validate(s);
+  if (s.color_filter != ColorFilter::none)
+    throw std::invalid_argument("color_filter: a colour sensor needs demosaic_color_bilinear");
+  std::array<std::vector<Lattice>, 4> lattices;
+  for (int p = 0; p < 4; ++p) lattices[static_cast<std::size_t>(p)] = {Lattice{p >> 1, p & 1}};
+  demosaic_core(s, raw, mode, 2, lattices, 1.0, out);
+}
+
+template <class T>
+void color_into(const DofpSensor& s, std::span<const T> raw, Demosaic mode, std::array<StokesPlanes, 3>& out) {
+  validate(s);
+  if (s.color_filter == ColorFilter::none)
+    throw std::invalid_argument("color_filter: demosaic_color_bilinear needs a colour sensor (rggb_blocks)");
+  if (s.width < 4 || s.height < 4) throw std::invalid_argument("a colour sensor needs width, height >= 4");
+  for (std::size_t b = 0; b < 3; ++b) {
+    std::array<std::vector<Lattice>, 4> lattices;
+    for (int p = 0; p < 4; ++p)
+      for (const auto& [by, bx] : kBandBlocks[b])
+        lattices[static_cast<std::size_t>(p)].push_back(Lattice{2 * by + (p >> 1), 2 * bx + (p & 1)});
+    demosaic_core(s, raw, mode, 4, lattices, s.band_response[b], out[b]);
+  }
+}
+
 }  // namespace
 
 StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_t> raw,
@@ -316,14 +343,15 @@ StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const std::uint16_
   return out;
 }
 
+StokesPlanes demosaic_bilinear(const DofpSensor& s, std::span<const float> raw, Demosaic mode) {
+  StokesPlanes out;
+  mono_into(s, raw, mode, out);
+  return out;
+}
+
 void demosaic_bilinear_into(const DofpSensor& s, std::span<const std::uint16_t> raw, Demosaic mode,
                             StokesPlanes& out) {
-  validate(s);
-  if (s.color_filter != ColorFilter::none)
-    throw std::invalid_argument("color_filter: a colour sensor needs demosaic_color_bilinear");
-  std::array<std::vector<Lattice>, 4> lattices;
-  for (int p = 0; p < 4; ++p) lattices[static_cast<std::size_t>(p)] = {Lattice{p >> 1, p & 1}};
-  demosaic_core(s, raw, mode, 2, lattices, 1.0, out);
+  mono_into(s, raw, mode, out);
 }
 
 int band_of_pixel(const DofpSensor& s, int row, int col) {
@@ -368,19 +396,15 @@ std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& s,
   return out;
 }
 
+std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& s, std::span<const float> raw, Demosaic mode) {
+  std::array<StokesPlanes, 3> out;
+  color_into(s, raw, mode, out);
+  return out;
+}
+
 void demosaic_color_bilinear_into(const DofpSensor& s, std::span<const std::uint16_t> raw,
                                   Demosaic mode, std::array<StokesPlanes, 3>& out) {
-  validate(s);
-  if (s.color_filter == ColorFilter::none)
-    throw std::invalid_argument("color_filter: demosaic_color_bilinear needs a colour sensor (rggb_blocks)");
-  if (s.width < 4 || s.height < 4) throw std::invalid_argument("a colour sensor needs width, height >= 4");
-  for (std::size_t b = 0; b < 3; ++b) {
-    std::array<std::vector<Lattice>, 4> lattices;
-    for (int p = 0; p < 4; ++p)
-      for (const auto& [by, bx] : kBandBlocks[b])
-        lattices[static_cast<std::size_t>(p)].push_back(Lattice{2 * by + (p >> 1), 2 * bx + (p & 1)});
-    demosaic_core(s, raw, mode, 4, lattices, s.band_response[b], out[b]);
-  }
+  color_into(s, raw, mode, out);
 }
 
 double clip_level_dn(const DofpSensor& s) {

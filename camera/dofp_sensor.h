@@ -118,6 +118,9 @@ enum class Demosaic { nominal, calibrated };
 // Mono sensors only (color_filter none).
 StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
                                Demosaic mode = Demosaic::nominal);
+// The same from DN that need not be whole (a capture's raw after its dark and flat corrections,
+// stack/capture_import.h, which kept in floating point add no rounding).
+StokesPlanes demosaic_bilinear(const DofpSensor& sensor, std::span<const float> raw, Demosaic mode = Demosaic::nominal);
 // The same into `out` (storage kept as for simulate_raw_into).
 void demosaic_bilinear_into(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
                             Demosaic mode, StokesPlanes& out);
@@ -140,6 +143,9 @@ std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& sensor,
                                                     Demosaic mode = Demosaic::nominal);
 void demosaic_color_bilinear_into(const DofpSensor& sensor, std::span<const std::uint16_t> raw,
                                   Demosaic mode, std::array<StokesPlanes, 3>& out);
+// The same from DN that need not be whole (see demosaic_bilinear).
+std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& sensor, std::span<const float> raw,
+                                                    Demosaic mode = Demosaic::nominal);
 
 // The raw value (DN) at and above which a pixel reads as clipped: its full well (the read noise,
 // added after the well clips, scatters clipped readings about it, so 4 of its σ below) or the

@@ -32,6 +32,10 @@ void add_estimate(CLI::App& app) {
   est->add_option("--max-uncertainty", a->request.input.max_uncertainty_deg,
                   "Largest 95 % cone (degrees) an answer may have; a method whose stated uncertainty is "
                   "wider declines and says so (default: no bound)");
+  est->add_option("--plot", a->request.plot,
+                  "Draw the answers over the middle frame's DoLP, AoLP and the pixels read, with the sun's track, "
+                  "each pole's 95 % cone and the truth: a PNG with every method, or one PNG per method in a folder "
+                  "(a path ending in / or an existing folder)");
   est->add_flag("--json", a->request.json, "Print the result as JSON");
   est->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   est->callback([a] {

@@ -9,6 +9,7 @@
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/py_stack.h"
+#include "skypole/estimate_plot.h"
 #include "skypole/evaluate.h"
 
 namespace skypol::python {
@@ -39,6 +40,21 @@ py::dict estimate(const PyStack& s, const std::string& method, const std::string
   return d;
 }
 
+// skypole/estimate_plot.h on a stack in memory: the estimates as estimate()'s dicts.
+std::vector<std::string> plot_estimate(const PyStack& s, const py::list& estimates, const std::string& path,
+                                       const std::string& band, double min_elevation_deg,
+                                       const std::optional<std::size_t>& frame) {
+  std::vector<skypole::PoleEstimate> es;
+  for (const py::handle& item : estimates) es.push_back(estimate_from_dict(item.cast<py::dict>()));
+  skypole::InputOptions in;
+  in.band = band;
+  in.min_elevation_deg = min_elevation_deg;
+  skypole::PlotOptions options;
+  options.frame = frame;
+  py::gil_scoped_release release;
+  return skypole::write_estimate_plots(s.stack, es, in, path, options);
+}
+
 }  // namespace
 
 void bind_skypole(py::module_& m) {
@@ -49,6 +65,9 @@ void bind_skypole(py::module_& m) {
         py::arg("hemisphere") = "automatic", py::arg("min_elevation_deg") = 0.0,
         py::arg("heading_undefined_within_deg") = 0.5, py::arg("attitude") = py::none(), py::arg("site") = "stack",
         "Run one estimator on a StackHandle: dict of every PoleEstimate field plus 'score' (None if invalid)");
+  m.def("plot_estimate", &plot_estimate, py::arg("stack"), py::arg("estimates"), py::arg("path"), py::arg("band") = "",
+        py::arg("min_elevation_deg") = 0.0, py::arg("frame") = py::none(),
+        "The picture of estimates (dicts of estimate()) on a StackHandle: a PNG, or one per method in a folder");
   m.def(
       "estimate_fields",
       [] {

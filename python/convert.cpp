@@ -1,5 +1,7 @@
 #include "python/convert.h"
 
+#include <pybind11/stl.h>
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -82,6 +84,42 @@ py::dict estimate_to_dict(const skypole::PoleEstimate& e) {
   d["cone95_deg"] = e.cone95_deg;
   d["seconds"] = e.seconds;
   return d;
+}
+
+skypole::PoleEstimate estimate_from_dict(const py::dict& d) {
+  const auto get = [&](const char* key) -> py::object {
+    if (!d.contains(key)) throw std::invalid_argument(std::string("estimate: the key '") + key + "' is missing");
+    return d[key];
+  };
+  const auto vector3 = [&](const char* key) {
+    const auto a = get(key).cast<std::vector<double>>();
+    if (a.size() != 3) throw std::invalid_argument(std::string("estimate: '") + key + "' needs 3 numbers");
+    return Eigen::Vector3d(a[0], a[1], a[2]);
+  };
+  skypole::PoleEstimate e;
+  e.method = get("method").cast<std::string>();
+  e.valid = get("valid").cast<bool>();
+  e.why_invalid = get("why_invalid").cast<std::string>();
+  e.note = get("note").cast<std::string>();
+  e.pole_camera = vector3("pole_camera");
+  e.pole_level = vector3("pole_level");
+  if (const py::object px = get("pixel"); !px.is_none()) {
+    const auto uv = px.cast<std::vector<double>>();
+    if (uv.size() != 2) throw std::invalid_argument("estimate: 'pixel' needs 2 numbers or None");
+    e.pixel = Eigen::Vector2d(uv[0], uv[1]);
+  }
+  e.azimuth_rel_deg = get("azimuth_rel_deg").cast<double>();
+  e.altitude_deg = get("altitude_deg").cast<double>();
+  e.latitude_deg = get("latitude_deg").cast<double>();
+  if (const py::object h = get("heading_deg"); !h.is_none()) e.heading_deg = h.cast<double>();
+  e.is_north = get("is_north").cast<bool>();
+  e.residual_deg = get("residual_deg").cast<double>();
+  e.sigma_bearing_deg = get("sigma_bearing_deg").cast<double>();
+  e.sigma_latitude_deg = get("sigma_latitude_deg").cast<double>();
+  e.sigma_deg = get("sigma_deg").cast<double>();
+  e.cone95_deg = get("cone95_deg").cast<double>();
+  e.seconds = get("seconds").cast<double>();
+  return e;
 }
 
 py::dict score_to_dict(const skypole::Score& s) {

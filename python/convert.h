@@ -27,6 +27,9 @@ namespace py = pybind11;
 py::dict truth_to_dict(const scene::Truth& truth);
 py::dict estimate_to_dict(const skypole::PoleEstimate& estimate);
 py::dict score_to_dict(const skypole::Score& score);
+// The inverse of estimate_to_dict (its keys; others, such as "score", are ignored), for an estimate
+// handed back to C++ (skypol.plot_estimate). Throws std::invalid_argument naming a missing key.
+skypole::PoleEstimate estimate_from_dict(const py::dict& d);
 
 py::array_t<double> to_array(const Eigen::Vector3d& v);
 py::array_t<double> to_array(const Eigen::Matrix3d& m);

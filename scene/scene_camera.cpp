@@ -184,7 +184,7 @@ camera::Calibration read_calibration(Fields& c) {
   }
   if (!is_utf8(cal.text)) c.fail(c.has("calibration_text") ? "calibration_text" : "calibration", cal.name + ": not UTF-8 text");
   for (const std::string& k : calibrated_keys())
-    if (c.has(k)) c.fail(k, "not with a calibration: " + cal.name + " sets the lens (fov_deg, clamp_fov_to_monotone and binning may be given)");
+    if (c.has(k)) c.fail(k, "not with a calibration: " + cal.name + " sets the lens (fov_deg or image_circle_px, clamp_fov_to_monotone and binning may be given)");
   return cal;
 }
 
@@ -295,10 +295,21 @@ CameraSpec read_camera(Fields& c) {
     } catch (const std::invalid_argument& e) {
       c.fail(lens_at, e.what());
     }
-    if (std::optional<double> v = c.optional_number("fov_deg", 1, 360)) l.fov_deg = v;
     if (c.has("clamp_fov_to_monotone")) l.clamp_fov_to_monotone = c.boolean("clamp_fov_to_monotone", false);
+    if (std::optional<double> v = c.optional_number("fov_deg", 1, 360)) l.fov_deg = v;
+    // The image circle's radius (pixels of the calibration, about its principal point) instead of
+    // the farthest sensor corner: a fisheye's corners are dark, and their angle may pass 180°.
+    if (std::optional<double> r = c.optional_number("image_circle_px", 1e-3, 1e6)) {
+      if (c.has("fov_deg")) c.fail("image_circle_px", "give either fov_deg or image_circle_px, not both");
+      try {
+        camera::fit_fov_to_image_circle(l, *r);
+      } catch (const std::invalid_argument& e) {
+        c.fail("image_circle_px", e.what());
+      }
+    }
     l.binning = static_cast<int>(c.integer("binning", 1, 1, 64));
   } else {
+    if (c.has("image_circle_px")) c.fail("image_circle_px", "only with a calibration (a lens model takes fov_deg)");
     s.lens = read_lens(c);
     if (l.model == "ocam") {
       // Keep the file's text with the camera: a stack stays estimable when the file moves.

@@ -15,6 +15,7 @@
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
 #include "skypole/classic.h"
+#include "skypole/estimate_plot.h"
 #include "skypole/evaluate.h"
 
 namespace skypol::skypole {
@@ -141,6 +142,19 @@ void print_unscored(const PoleEstimate& e) {
   std::printf("%-24s %12.3f\n", "95% cone (deg)", e.cone95_deg);
 }
 
+// The estimate plot of `estimates`, with the stack's clipped channel, which the estimators were not given.
+void write_plots(const EstimateRequest& r, const stack::Stack& stack, const std::vector<PoleEstimate>& estimates) {
+  PlotOptions options;
+  const std::vector<std::string> channels = stack::peek_stack(r.path).channels;
+  if (std::find(channels.begin(), channels.end(), "clipped") != channels.end()) {
+    options.clipped = stack::read_stack(r.path, {"clipped"}).frames.at(stack.frames.size() / 2).channel("clipped");
+  }
+  for (const std::string& path : write_estimate_plots(stack, estimates, r.input, r.plot, options)) {
+    if (!r.json) std::printf("plot     %s\n", path.c_str());
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 std::vector<std::string> estimator_channels(const std::string& path) {
@@ -220,6 +234,7 @@ void print_estimate(const EstimateRequest& r) {
   }
   if (r.json) std::printf("]\n");
   std::fflush(stdout);
+  if (!r.plot.empty()) write_plots(r, stack, done);
   if (declined == methods.size()) {
     throw std::invalid_argument(r.path + ": " +
                                 (methods.size() == 1 ? methods[0] + " found no pole: " + done[0].why_invalid

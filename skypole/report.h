@@ -15,6 +15,9 @@ struct EstimateRequest {
   InputOptions input;
   bool json = false;
   std::string intermediates;  // classic only: write its step images to this EXR (empty: none)
+  // The picture of the answers (skypole/estimate_plot.h write_estimate_plots: a PNG, or a folder of
+  // one PNG per method); written also when every method declined. Empty: none.
+  std::string plot;
   // Feedback for a terminal (may be empty): progress(i, n) before method i runs and (n, n) after
   // the last; before_output() before each method's result is printed.
   std::function<void(std::size_t, std::size_t)> progress;

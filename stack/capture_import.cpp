@@ -7,6 +7,7 @@
 #include <fnmatch.h>
 #include <map>
 #include <optional>
+#include <span>
 
 #include "camera/dofp_sensor.h"
 #include "camera/orientation.h"
@@ -197,7 +198,10 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
   // subtraction, because the demosaic removes them again (camera/dofp_sensor.h).
   const double offset_dn = d.black_level_dn + d.gain_dn_per_e * d.dark_current_e_s * d.exposure_us * 1e-6;
 
-  std::vector<std::vector<std::uint16_t>> raws;
+  std::vector<std::vector<std::uint16_t>> raws;  // as recorded; without corrections, what is demosaicked
+  // With a dark or a flat frame: the corrected DN, in floating point (rounding them back to whole
+  // DN would add up to 0.5 DN of error, more than a flat's percent-level corrections of a dim sky).
+  std::vector<std::vector<float>> corrected;
   std::vector<std::vector<std::uint8_t>> clipped;  // per frame: camera::clipped_pixels
   std::vector<scene::Truth> truths;
   for (std::size_t i = 0; i < spec.frames.size(); ++i) {
@@ -210,14 +214,16 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
     std::vector<std::uint16_t> dn = to_dn(r, path, spec.right_shift, max_dn);
     clipped.push_back(camera::clipped_pixels(d, dn));  // the camera's own readings, before corrections
     if (!dark.empty() || !flat.empty()) {
-      // Corrections in DN, rounded back to whole DN for the demosaic (adds ≤ 0.5 DN).
+      std::vector<float> v(dn.size());
       for (std::size_t k = 0; k < dn.size(); ++k) {
-        double v = dn[k];
-        if (!dark.empty()) v = v - dark[k];
-        if (!flat.empty()) v = v / flat[k];
-        if (!dark.empty()) v += offset_dn;
-        dn[k] = static_cast<std::uint16_t>(std::clamp(std::round(v), 0.0, max_dn));
+        double x = dn[k];
+        if (!dark.empty()) x = x - dark[k];
+        if (!flat.empty()) x = x / flat[k];
+        if (!dark.empty()) x += offset_dn;
+        v[k] = static_cast<float>(x);
       }
+      corrected.push_back(std::move(v));
+      dn = {};
     }
     scene::Truth t;
     const std::string name = fs::path(path).filename().string();
@@ -279,10 +285,16 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
     f.width = w;
     f.height = h;
     f.truth = truths[i];
+    const bool floating = !corrected.empty();
     if (!colour) {
-      put_band(bands[0], camera::demosaic_bilinear(d, raws[i], sensor.demosaic), mask, false, f);
+      put_band(bands[0],
+               floating ? camera::demosaic_bilinear(d, std::span<const float>(corrected[i]), sensor.demosaic)
+                        : camera::demosaic_bilinear(d, std::span<const std::uint16_t>(raws[i]), sensor.demosaic),
+               mask, false, f);
     } else {
-      std::array<camera::StokesPlanes, 3> rgb = camera::demosaic_color_bilinear(d, raws[i], sensor.demosaic);
+      std::array<camera::StokesPlanes, 3> rgb =
+          floating ? camera::demosaic_color_bilinear(d, std::span<const float>(corrected[i]), sensor.demosaic)
+                   : camera::demosaic_color_bilinear(d, std::span<const std::uint16_t>(raws[i]), sensor.demosaic);
       for (std::size_t b = 0; b < 3; ++b) put_band(bands[b], std::move(rgb[b]), mask, true, f);
     }
     // As a render's sensor stage: a pixel whose demosaic read a clipped raw value is masked
@@ -290,6 +302,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
     camera::mask_clipped(clipped[i], f.channels["mask"] = mask, f.channels["clipped"]);
     std::vector<std::uint8_t>().swap(clipped[i]);
     std::vector<std::uint16_t>().swap(raws[i]);  // this frame's mosaic is no longer needed
+    if (floating) std::vector<float>().swap(corrected[i]);
     return f;
   });
   if (progress) progress(truths.size(), truths.size());

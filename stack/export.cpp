@@ -107,67 +107,78 @@ std::vector<std::string> export_stack(const std::string& stack_path, const Expor
   std::error_code ec;
   fs::create_directories(o.out_dir, ec);
   if (ec || !fs::is_directory(o.out_dir)) fail(o.out_dir, "cannot create the output folder");
-  const Stack stack = read_stack(stack_path, names);
   const std::string stem = fs::path(stack_path).stem().string();
   std::vector<std::string> written;
   std::string csv = "file,time\n";
-  for (std::size_t i = 0; i < stack.frames.size(); ++i) {
-    const Frame& f = stack.frames[i];
-    const std::size_t n = static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height);
-    char index[32];
-    std::snprintf(index, sizeof index, "%03zu", i);
-    const std::string base = stem + "_" + index + "_" + compact_time(f.truth.time);
-    std::vector<std::pair<std::string, std::string>> attrs{{"DateTime", exif_time(f.truth.time)},
-                                                          {"Exif:DateTimeOriginal", exif_time(f.truth.time)}};
-    if (o.format == "exr" || o.format == "tiff") attrs.emplace_back("compression", "zip");
-    const auto add = [&](const std::string& file) {
-      written.push_back((fs::path(o.out_dir) / file).string());
-      csv += file + "," + sky::format_iso8601(f.truth.time) + "\n";
-    };
-    if (o.format == "png") {
-      for (const std::string& c : names) {
-        const std::string file = base + (names.size() > 1 ? "." + c : "") + ".png";
-        const std::string path = (fs::path(o.out_dir) / file).string();
-        std::vector<unsigned short> px(n);
-        const std::vector<float>& v = f.channel(c);
-        for (std::size_t k = 0; k < n; ++k) px[k] = png_value(c, v[k]);
-        const std::string tmp = temp_name(path);
-        commit(tmp, path, oiio::write_u16_image(path, tmp, f.width, f.height, {c}, px.data(), attrs));
-        add(file);
+  // One frame in memory at a time: each is written as soon as it is read. A frame that cannot be
+  // read or written takes the files already written with it: an export is whole or absent.
+  try {
+    read_stack_frames(stack_path, names, [&](std::size_t i, Frame&& f) {
+      const std::size_t n = static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height);
+      char index[32];
+      std::snprintf(index, sizeof index, "%03zu", i);
+      const std::string base = stem + "_" + index + "_" + compact_time(f.truth.time);
+      std::vector<std::pair<std::string, std::string>> attrs{{"DateTime", exif_time(f.truth.time)},
+                                                            {"Exif:DateTimeOriginal", exif_time(f.truth.time)}};
+      if (o.format == "exr" || o.format == "tiff") attrs.emplace_back("compression", "zip");
+      const auto add = [&](const std::string& file) {
+        written.push_back((fs::path(o.out_dir) / file).string());
+        csv += file + "," + sky::format_iso8601(f.truth.time) + "\n";
+      };
+      if (o.format == "png" || (o.format == "tiff" && !raw_only)) {
+        // One channel per file: what every reader of docs/exr-format.md opens (OpenCV 4.6 opens no
+        // float TIFF of 2, 4 or 5 channels).
+        for (const std::string& c : names) {
+          const std::string file = base + (names.size() > 1 ? "." + c : "") + "." + o.format;
+          const std::string path = (fs::path(o.out_dir) / file).string();
+          const std::vector<float>& v = f.channel(c);
+          const std::string tmp = temp_name(path);
+          if (o.format == "tiff") {
+            commit(tmp, path, oiio::write_float_image(path, tmp, f.width, f.height, {c}, v.data(), attrs));
+          } else {
+            std::vector<unsigned short> px(n);
+            for (std::size_t k = 0; k < n; ++k) px[k] = png_value(c, v[k]);
+            commit(tmp, path, oiio::write_u16_image(path, tmp, f.width, f.height, {c}, px.data(), attrs));
+          }
+          add(file);
+        }
+        return;
       }
-      continue;
-    }
-    const std::string file = base + "." + o.format;
-    const std::string path = (fs::path(o.out_dir) / file).string();
-    const std::string tmp = temp_name(path);
-    const std::size_t nc = names.size();
-    if (raw_only && o.format != "exr") {
-      const std::vector<float>& v = f.channel("raw");
-      std::vector<unsigned short> px(n);
-      for (std::size_t k = 0; k < n; ++k) px[k] = static_cast<unsigned short>(std::clamp(v[k], 0.0f, 65535.0f));
-      const std::string error =
-          o.format == "npy" ? (write_npy(tmp, {static_cast<std::size_t>(f.height), static_cast<std::size_t>(f.width)},
-                                         px.data()) ? "" : "I/O error")
-                            : oiio::write_u16_image(path, tmp, f.width, f.height, names, px.data(), attrs);
+      const std::string file = base + "." + o.format;
+      const std::string path = (fs::path(o.out_dir) / file).string();
+      const std::string tmp = temp_name(path);
+      const std::size_t nc = names.size();
+      if (raw_only && o.format != "exr") {
+        const std::vector<float>& v = f.channel("raw");
+        std::vector<unsigned short> px(n);
+        for (std::size_t k = 0; k < n; ++k) px[k] = static_cast<unsigned short>(std::clamp(v[k], 0.0f, 65535.0f));
+        const std::string error =
+            o.format == "npy" ? (write_npy(tmp, {static_cast<std::size_t>(f.height), static_cast<std::size_t>(f.width)},
+                                           px.data()) ? "" : "I/O error")
+                              : oiio::write_u16_image(path, tmp, f.width, f.height, names, px.data(), attrs);
+        commit(tmp, path, error);
+        add(file);
+        return;
+      }
+      std::vector<float> px(n * nc);  // interleaved: (rows, cols, channels)
+      for (std::size_t c = 0; c < nc; ++c) {
+        const std::vector<float>& v = f.channel(names[c]);
+        for (std::size_t k = 0; k < n; ++k) px[k * nc + c] = v[k];
+      }
+      std::string error;
+      if (o.format == "npy") {
+        std::vector<std::size_t> shape{static_cast<std::size_t>(f.height), static_cast<std::size_t>(f.width)};
+        if (nc > 1) shape.push_back(nc);
+        error = write_npy(tmp, shape, px.data()) ? "" : "I/O error";
+      } else {
+        error = oiio::write_float_image(path, tmp, f.width, f.height, names, px.data(), attrs);
+      }
       commit(tmp, path, error);
       add(file);
-      continue;
-    }
-    std::vector<float> px(n * nc);  // interleaved: (rows, cols, channels)
-    for (std::size_t c = 0; c < nc; ++c) {
-      const std::vector<float>& v = f.channel(names[c]);
-      for (std::size_t k = 0; k < n; ++k) px[k * nc + c] = v[k];
-    }
-    std::string error;
-    if (o.format == "npy") {
-      std::vector<std::size_t> shape{static_cast<std::size_t>(f.height), static_cast<std::size_t>(f.width)};
-      if (nc > 1) shape.push_back(nc);
-      error = write_npy(tmp, shape, px.data()) ? "" : "I/O error";
-    } else {
-      error = oiio::write_float_image(path, tmp, f.width, f.height, names, px.data(), attrs);
-    }
-    commit(tmp, path, error);
-    add(file);
+    });
+  } catch (...) {
+    for (const std::string& file : written) fs::remove(file, ec);
+    throw;
   }
   const std::string csv_path = (fs::path(o.out_dir) / "times.csv").string();
   const std::string tmp = temp_name(csv_path);

@@ -1,8 +1,9 @@
 // `skypol export`: a stack's frames as ordinary single-part files that OpenCV, NumPy, ImageMagick
 // and GDAL open (a multi-part EXR opens in none of them; docs/exr-format.md). One file per frame
-// (PNG: per frame and channel), named <stack stem>_<NNN>_<YYYYMMDDTHHMMSS>Z.<ext> so that the
-// names sort in time order and carry the time; a times.csv (file,time) beside them lists every
-// file, the form `skypol import` reads back.
+// (TIFF and PNG: per frame and channel, "….<channel>.<ext>" when several are asked for: OpenCV
+// 4.6 opens no float TIFF of 2, 4 or 5 channels), named <stack stem>_<NNN>_<YYYYMMDDTHHMMSS>Z.<ext>
+// so that the names sort in time order and carry the time; a times.csv (file,time) beside them
+// lists every file, the form `skypol import` reads back.
 #pragma once
 
 #include <string>
@@ -19,6 +20,8 @@ struct ExportOptions {
   std::string out_dir = ".";
 };
 
+// The stack is read one frame at a time, each frame's files written before the next is read (the
+// memory is one frame's); a frame that cannot be read or written removes the files already written.
 // Pixel types: float32 everywhere (EXR, TIFF, NPY shape (rows, cols) or (rows, cols, channels)),
 // except the raw mosaic alone, kept as uint16 DN in TIFF, NPY and PNG, as cameras save it. PNG
 // holds integers: raw as DN, DoLP and mask scaled by 65535, AoLP mapped from (−90°, 90°] onto

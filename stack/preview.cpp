@@ -172,6 +172,9 @@ std::string title_of(const std::string& time, double sun_az_deg, double sun_el_d
   return buf;
 }
 
+void write_png_file(const std::string& what, const std::string& path, int width, int height,
+                    std::vector<float>& pixels, const std::vector<Text>& texts);
+
 }  // namespace
 
 std::vector<std::uint8_t> preview_inside(const camera::Camera& cam) {
@@ -251,20 +254,211 @@ void write_preview_png(const PreviewFrame& frame, const std::string& path, int m
   const PreviewLayout l = preview_layout(frame.width, frame.height, max_panel_px);
   std::vector<Text> texts;
   std::vector<float> pixels = draw(frame, l, &texts);
+  write_png_file("preview", path, l.width, l.height, pixels, texts);
+}
+
+namespace {
+
+constexpr int kTextLineH = 20;
+constexpr int kSwatchW = 22;
+constexpr double kCharPx = 8.2;  // DejaVuSans at kFontPx: an average character's advance
+
+// Panel pixel of frame pixel `p` (preview.h: a panel samples the frame at k·step + step/2).
+Eigen::Vector2i panel_pixel(const PreviewLayout& l, const Eigen::Vector2d& p) {
+  const double half = l.step / 2;
+  return {static_cast<int>(std::lround((p.x() - half) / l.step)), static_cast<int>(std::lround((p.y() - half) / l.step))};
+}
+
+// A canvas seen through one panel: set() in panel coordinates, nothing drawn outside the panel.
+struct PanelPen {
+  Canvas& c;
+  const PreviewLayout& l;
+  int panel;
+  void set(int x, int y, const Rgb& colour) const {
+    if (x < 0 || y < 0 || x >= l.panel_w || y >= l.panel_h) return;
+    c.set(l.panel_x[panel] + x, l.panel_y + y, colour);
+  }
+  // Bresenham's line between panel pixels a and b.
+  void line(Eigen::Vector2i a, const Eigen::Vector2i& b, const Rgb& colour) const {
+    const int dx = std::abs(b.x() - a.x()), dy = -std::abs(b.y() - a.y());
+    const int sx = a.x() < b.x() ? 1 : -1, sy = a.y() < b.y() ? 1 : -1;
+    // Points far outside the panel (a projected cone's far side) are not walked pixel by pixel.
+    if (std::max(dx, -dy) > 4 * (l.panel_w + l.panel_h)) return;
+    int err = dx + dy;
+    for (;;) {
+      set(a.x(), a.y(), colour);
+      if (a == b) break;
+      const int e2 = 2 * err;
+      if (e2 >= dy) err += dy, a.x() += sx;
+      if (e2 <= dx) err += dx, a.y() += sy;
+    }
+  }
+  void mark(const PlotMark& m) const {
+    const Eigen::Vector2i p = panel_pixel(l, m.pixel);
+    const int r = m.radius_px;
+    switch (m.shape) {
+      case PlotMark::Shape::cross:
+        for (int k = -r; k <= r; ++k) set(p.x() + k, p.y() + k, m.colour), set(p.x() + k, p.y() - k, m.colour);
+        break;
+      case PlotMark::Shape::plus:
+        for (int k = -r; k <= r; ++k) set(p.x() + k, p.y(), m.colour), set(p.x(), p.y() + k, m.colour);
+        break;
+      case PlotMark::Shape::dot:
+        for (int y = -r; y <= r; ++y) {
+          for (int x = -r; x <= r; ++x) {
+            if (x * x + y * y <= r * r) set(p.x() + x, p.y() + y, m.colour);
+          }
+        }
+        break;
+      case PlotMark::Shape::square:
+        for (int k = -r; k <= r; ++k) {
+          set(p.x() + k, p.y() - r, m.colour), set(p.x() + k, p.y() + r, m.colour);
+          set(p.x() - r, p.y() + k, m.colour), set(p.x() + r, p.y() + k, m.colour);
+        }
+        break;
+    }
+  }
+};
+
+// `text` cut at spaces into lines of at most `chars` characters (a longer word stays whole).
+std::vector<std::string> wrap(const std::string& text, std::size_t chars) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t at = 0;
+  while (at < text.size()) {
+    std::size_t end = text.find(' ', at);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(at, end - at);
+    if (!line.empty() && line.size() + 1 + word.size() > chars) {
+      lines.push_back(line);
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    at = end + 1;
+  }
+  if (!line.empty() || lines.empty()) lines.push_back(line);
+  return lines;
+}
+
+// The legend's lines: the categories, then the plot's texts, wrapped; a swatch on each first line.
+std::vector<PlotText> legend_lines(const PlotFrame& p, const PreviewLayout& l) {
+  const auto chars = static_cast<std::size_t>(std::max(20.0, (l.width - 2 * kMargin - kSwatchW - 8) / kCharPx));
+  std::vector<PlotText> out;
+  auto add = [&](const std::string& text, const std::optional<Rgb>& swatch) {
+    const std::vector<std::string> lines = wrap(text, chars);
+    for (std::size_t i = 0; i < lines.size(); ++i) out.push_back({lines[i], i == 0 ? swatch : std::nullopt});
+  };
+  for (const PlotCategory& c : p.categories) add(c.label, c.colour);
+  for (const PlotText& t : p.texts) add(t.text, t.swatch);
+  return out;
+}
+
+std::vector<float> draw_plot(const PlotFrame& p, const PreviewLayout& base, std::vector<Text>* texts_out, int* height) {
+  const PreviewFrame& f = p.frame;
+  const std::size_t n = static_cast<std::size_t>(f.width) * static_cast<std::size_t>(f.height);
+  if (f.dolp.size() != n || f.aolp.size() != n || f.mask.size() != n || f.inside.size() != n ||
+      p.category.size() != n || (!p.shade.empty() && p.shade.size() != n)) {
+    throw std::invalid_argument("estimate plot: a channel's size differs from the frame's");
+  }
+  for (std::uint8_t k : p.category) {
+    if (k >= p.categories.size()) throw std::invalid_argument("estimate plot: a pixel's category is not listed");
+  }
+  PreviewLayout l = base;
+  const std::vector<PlotText> legend = legend_lines(p, l);
+  const int text_y = base.bar_y + base.bar_h + kTickH + kTickLabelH + 8;
+  l.height = text_y + static_cast<int>(legend.size()) * kTextLineH + kMargin;
+  if (height) *height = l.height;
+  Canvas c(l.width, l.height);
+  std::vector<Text> texts;
+  texts.push_back({kMargin, kTitleH - 8, f.title});
+  const char* names[3] = {"DoLP", "AoLP (degrees)", "pixels the estimators read"};
+  for (int panel = 0; panel < 3; ++panel) {
+    texts.push_back({l.panel_x[panel] + l.panel_w / 2, l.panel_y - 7, names[panel], kCentre});
+    for (int py = 0; py < l.panel_h; ++py) {
+      const int y = std::min(f.height - 1, py * l.step + l.step / 2);
+      for (int px = 0; px < l.panel_w; ++px) {
+        const int x = std::min(f.width - 1, px * l.step + l.step / 2);
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(f.width) + static_cast<std::size_t>(x);
+        Rgb colour;
+        if (!f.inside[i]) {
+          colour = kOutside;
+        } else if (panel == 2) {
+          colour = p.categories[p.category[i]].colour;
+          if (!p.shade.empty()) {
+            const float k = 0.5f + 0.5f * std::clamp(p.shade[i], 0.0f, 1.0f);
+            for (float& v : colour) v *= k;
+          }
+        } else if (!(f.mask[i] > 0)) {
+          colour = hatch(px, py);
+        } else if (panel == 0) {
+          colour = perceptual_colour(f.dolp[i]);
+        } else {
+          colour = cyclic_colour(static_cast<double>(f.aolp[i]) / std::numbers::pi + 0.5);
+        }
+        c.set(l.panel_x[panel] + px, l.panel_y + py, colour);
+      }
+    }
+    const PanelPen pen{c, l, panel};
+    for (const PlotLine& line : p.lines) {
+      for (std::size_t k = 1; k < line.points.size(); ++k) {
+        pen.line(panel_pixel(l, line.points[k - 1]), panel_pixel(l, line.points[k]), line.colour);
+      }
+      if (line.points.size() == 1) pen.set(panel_pixel(l, line.points[0]).x(), panel_pixel(l, line.points[0]).y(), line.colour);
+    }
+    for (const PlotMark& m : p.marks) pen.mark(m);
+  }
+  draw_bar(c, l, 0, [](double t) { return perceptual_colour(t); },
+           {{0, "0"}, {0.25, "0.25"}, {0.5, "0.5"}, {0.75, "0.75"}, {1, "1"}}, texts);
+  draw_bar(c, l, 1, [](double t) { return cyclic_colour(t); },
+           {{0, "-90"}, {0.25, "-45"}, {0.5, "0"}, {0.75, "45"}, {1, "90"}}, texts);
+  for (std::size_t k = 0; k < legend.size(); ++k) {
+    const int y = text_y + static_cast<int>(k) * kTextLineH;
+    if (legend[k].swatch) c.fill(kMargin, y + 3, kSwatchW, 12, *legend[k].swatch);
+    texts.push_back({kMargin + kSwatchW + 8, y + 14, legend[k].text});
+  }
+  if (texts_out) *texts_out = std::move(texts);
+  return std::move(c.pixels());
+}
+
+// Writes pixels with their texts as a PNG at `path` (temporary name first); `what` names the picture.
+void write_png_file(const std::string& what, const std::string& path, int width, int height,
+                    std::vector<float>& pixels, const std::vector<Text>& texts) {
   const fs::path final_path(path);
   const fs::path temp = final_path.parent_path() / ("." + final_path.filename().string() + ".tmp.png");
   const oiio::Font font{kFont, kFontPx, {kText[0], kText[1], kText[2]}};
-  if (const std::string error = oiio::write_png(temp.string(), l.width, l.height, pixels.data(), texts, font); !error.empty()) {
+  if (const std::string error = oiio::write_png(temp.string(), width, height, pixels.data(), texts, font); !error.empty()) {
     std::error_code ec;
     fs::remove(temp, ec);
-    throw std::runtime_error("cannot write preview " + path + ": " + error);
+    throw std::runtime_error("cannot write " + what + " " + path + ": " + error);
   }
   std::error_code ec;
   fs::rename(temp, final_path, ec);
   if (ec) {
     fs::remove(temp, ec);
-    throw std::runtime_error("cannot write preview " + path + ": " + ec.message());
+    throw std::runtime_error("cannot write " + what + " " + path + ": " + ec.message());
   }
+}
+
+}  // namespace
+
+PreviewLayout plot_layout(int frame_width, int frame_height, int max_panel_px) {
+  return preview_layout(frame_width, frame_height, max_panel_px);
+}
+
+Eigen::Vector2i plot_panel_pixel(const PreviewLayout& layout, const Eigen::Vector2d& pixel) {
+  return panel_pixel(layout, pixel);
+}
+
+std::vector<float> plot_pixels(const PlotFrame& plot, int max_panel_px, int* height) {
+  return draw_plot(plot, plot_layout(plot.frame.width, plot.frame.height, max_panel_px), nullptr, height);
+}
+
+void write_plot_png(const PlotFrame& plot, const std::string& path, int max_panel_px) {
+  const PreviewLayout l = plot_layout(plot.frame.width, plot.frame.height, max_panel_px);
+  std::vector<Text> texts;
+  int height = 0;
+  std::vector<float> pixels = draw_plot(plot, l, &texts, &height);
+  write_png_file("the estimate plot", path, l.width, height, pixels, texts);
 }
 
 std::string preview_folder_for(const std::string& stack_path) {

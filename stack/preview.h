@@ -10,10 +10,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "camera/camera.h"
+#include "stack/colormap.h"
 #include "stack/frame.h"
 
 namespace skypol::stack {
@@ -59,6 +61,54 @@ void write_preview_png(const PreviewFrame& frame, const std::string& path, int m
 // "NNNN-YYYYMMDDTHHMMSSZ.png" per frame.
 std::string preview_folder_for(const std::string& stack_path);
 std::string preview_file_name(std::size_t index, const std::string& iso_time);
+
+// The picture of an estimate (skypole/estimate_plot.h draws its content): three panels of one
+// frame side by side — DoLP, AoLP, and the pixels the estimators read, each pixel in the colour of
+// its category — with marks drawn over every panel (poles, cones, suns, tracks) and lines of text
+// under them, each with a colour swatch. Positions are frame pixels (continuous, OpenCV's centres);
+// a frame pixel (u, v) is drawn at panel pixel ((u − step/2) / step, (v − step/2) / step), rounded,
+// where step/2 is an integer division (a panel samples the frame at k·step + step/2).
+struct PlotCategory {
+  Rgb colour{};
+  std::string label;
+};
+struct PlotMark {
+  enum class Shape { cross, plus, dot, square };  // cross: ×, plus: +, dot: filled disc, square: hollow
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  Rgb colour{};
+  Shape shape = Shape::cross;
+  int radius_px = 6;  // on the panel
+};
+struct PlotLine {
+  std::vector<Eigen::Vector2d> points;  // a polyline; consecutive points are joined
+  Rgb colour{};
+};
+struct PlotText {
+  std::string text;
+  std::optional<Rgb> swatch;  // drawn before the text
+};
+struct PlotFrame {
+  PreviewFrame frame;                    // DoLP, AoLP, mask and inside of the frame shown; its title
+  std::vector<std::uint8_t> category;    // per pixel, an index into categories (the third panel)
+  std::vector<float> shade;              // per pixel in [0, 1]: a category's colour is scaled by 0.5 + 0.5·shade
+  std::vector<PlotCategory> categories;  // listed in the legend under the third panel
+  std::vector<PlotLine> lines;
+  std::vector<PlotMark> marks;           // drawn after the lines, in order
+  std::vector<PlotText> texts;           // under the panels, one line each (long lines wrap)
+};
+
+// Where the estimate picture's panels are: the preview's layout (same panel positions, step and
+// bars), taller by the text lines under them.
+PreviewLayout plot_layout(int frame_width, int frame_height, int max_panel_px = 512);
+// The panel pixel that shows frame pixel `pixel` (the rule above), panel coordinates.
+Eigen::Vector2i plot_panel_pixel(const PreviewLayout& layout, const Eigen::Vector2d& pixel);
+
+// The picture as sRGB floats (RGB interleaved, layout's width × the returned height), without the
+// text; and the same written as a PNG with the text (temporary name, renamed when complete).
+// Throws std::invalid_argument for channels of the wrong size, std::runtime_error naming the path
+// when the PNG cannot be written.
+std::vector<float> plot_pixels(const PlotFrame& plot, int max_panel_px, int* height);
+void write_plot_png(const PlotFrame& plot, const std::string& path, int max_panel_px = 512);
 
 // Previews written while a stack is rendered, into a temporary folder that replaces `folder` on
 // commit(); destroyed without commit, it leaves nothing behind.

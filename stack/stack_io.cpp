@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -42,6 +43,7 @@
 #include "scene/truth.h"
 #include "stack/exr_ostream.h"
 #include "stack/temp_files.h"
+#include "stack/version.h"
 
 namespace skypol::stack {
 namespace {
@@ -154,7 +156,7 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   Imf::addCapDate(h, date);
   Imf::addUtcOffset(h, 0.0f);
   // Exact values as skypol: attributes (docs/exr-format.md).
-  put<Imf::StringAttribute>(h, "skypol:version", std::string("skypol 0.1"));
+  put<Imf::StringAttribute>(h, "skypol:version", version_text());
   put<Imf::StringAttribute>(h, "skypol:time", sky::format_iso8601(t.time));
   put<Imf::DoubleAttribute>(h, "skypol:unixTime", t.time.unix_seconds);
   if (sh.site_known) {
@@ -555,9 +557,11 @@ double write_stack_banded(const std::string& path, const std::vector<scene::Trut
   return writing_s;
 }
 
-Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels) {
+Stack read_stack_frames(const std::string& path, const std::vector<std::string>& only_channels,
+                        const std::function<void(std::size_t, Frame&&)>& each) {
   use_all_cores_for_exr();
   Stack stack;
+  std::exception_ptr callers;  // what `each` threw: passed on as it is, not as a read error
   try {
     Imf::MultiPartInputFile file(path.c_str());
     const int parts = file.parts();
@@ -612,13 +616,26 @@ Stack read_stack(const std::string& path, const std::vector<std::string>& only_c
       Imf::InputPart part(file, i);
       part.setFrameBuffer(fb);
       part.readPixels(dw.min.y, dw.max.y);
-      stack.frames.push_back(std::move(frame));
+      try {
+        each(static_cast<std::size_t>(i), std::move(frame));
+      } catch (...) {
+        callers = std::current_exception();
+        break;
+      }
     }
   } catch (const scene::SceneError&) {
     throw;
   } catch (const std::exception& e) {
     throw scene::SceneError(scene::FileLoc{path, 0, 0}, std::string("cannot read stack: ") + e.what());
   }
+  if (callers) std::rethrow_exception(callers);
+  return stack;
+}
+
+Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels) {
+  std::vector<Frame> frames;
+  Stack stack = read_stack_frames(path, only_channels, [&](std::size_t, Frame&& f) { frames.push_back(std::move(f)); });
+  stack.frames = std::move(frames);
   return stack;
 }
 

@@ -97,6 +97,11 @@ void use_all_cores_for_exr();
 // Reads a stack back, all channels or only those named (a missing one is an error naming it).
 // Rebuilds the camera from the header. Throws SceneError for a file that is not a skypol stack.
 Stack read_stack(const std::string& path, const std::vector<std::string>& only_channels = {});
+// The same, one frame at a time: each(i, frame) is called with part i's frame as soon as it is
+// read, in order, so that only one frame is in memory (skypol export). Returns the stack's shared
+// facts (camera, bands, scene, what is known) without frames. What `each` throws is passed on.
+Stack read_stack_frames(const std::string& path, const std::vector<std::string>& only_channels,
+                        const std::function<void(std::size_t, Frame&&)>& each);
 
 // The channel names and bands of a stack, from its first header (no pixels read).
 struct StackSummary {

@@ -28,7 +28,7 @@ from ._skypol import SceneError, method_names, parse_time, format_time
 __all__ = [
     "SceneError", "Scene", "Camera", "Frame", "Stack", "Estimate",
     "load_scene", "parse_scene", "render_frame", "render_stack", "iter_frames", "read_stack", "write_stack",
-    "stack_from_arrays", "estimate", "method_names", "methods", "sun_position", "parse_time", "format_time",
+    "stack_from_arrays", "estimate", "plot_estimate", "method_names", "methods", "sun_position", "parse_time", "format_time",
     "marseille",
 ]
 
@@ -401,6 +401,19 @@ def methods() -> list[dict[str, Any]]:
     sector_jackknife, used_by_auto, needs_site, misfit_measured, auto_answers_alone) and calibration
     (a dict; an unbounded gate is None). "auto", their combination, is not one of them."""
     return json.loads(_skypol.methods_json())
+
+
+def plot_estimate(stack: Stack, estimates: Any, path: str, *, band: str = "", min_elevation_deg: float = 0.0,
+                  frame: int | None = None) -> list[str]:
+    """The picture `skypol estimate --plot` draws (skypole/estimate_plot.h), of `estimates` (an
+    Estimate, a dict of estimate(as_dict=True), or a list of them) on `stack`: a PNG at `path`, or
+    one PNG per method in the folder `path` names (a path ending in "/" or an existing folder).
+    band and min_elevation_deg as given to estimate(); frame: the frame shown (default: the middle
+    one). Returns the files written."""
+    items = estimates if isinstance(estimates, (list, tuple)) else [estimates]
+    dicts = [e if isinstance(e, Mapping) else e.to_dict() for e in items]
+    return _skypol.plot_estimate(stack._h, dicts, str(path), band, float(min_elevation_deg),
+                                 None if frame is None else int(frame))
 
 
 # ------------------------------------------------------------------------------------------- sun

@@ -196,7 +196,11 @@ TEST_CASE("a dark frame is subtracted and a flat field divided before the demosa
   TempDir dir;
   const std::string scene = dir.write("marseille.toml", scene_text());
   const std::string stack = (dir.path / "rendered.exr").string();
-  Result r = run("render -q " + scene + " --set camera.heading_deg=37 --set 'time.end=\"2022-06-21T06:00:00Z\"' -o " + stack);
+  // Without dark current (and the preset's black level of 0) the sensor adds no offset to the raw
+  // values, so that the dark frame below is the camera's whole dark signal and the corrected
+  // mosaic is exactly the rendered one (the import keeps corrections in floating point).
+  Result r = run("render -q " + scene + " --set camera.heading_deg=37 --set 'time.end=\"2022-06-21T06:00:00Z\"' "
+                 "--set sensor.dark_current_e_s=0 -o " + stack);
   INFO(r.out);
   REQUIRE(r.code == 0);
   r = run("export -q " + stack + " -f npy -c raw -o " + (dir.path / "raw").string());
@@ -225,7 +229,7 @@ TEST_CASE("a dark frame is subtracted and a flat field divided before the demosa
   // puts them back after the subtraction, and the demosaic takes them off again.
   const std::string capture = dir.write(
       "capture.toml", capture_text("recorded/*.npy", "times = \"csv\"\ntimes_csv = \"recorded/times.csv\"\n"
-                                   "dark = \"dark.npy\"\nflat = \"flat.npy\"", "adc_bits = 16\n"));
+                                   "dark = \"dark.npy\"\nflat = \"flat.npy\"", "adc_bits = 16\ndark_current_e_s = 0\n"));
   const std::string imported = (dir.path / "imported.exr").string();
   r = run("import -q " + capture + " -o " + imported);
   INFO(r.out);

@@ -381,5 +381,47 @@ class Sun(unittest.TestCase):
         self.assertAlmostEqual(scene.truth(scene.times[3])["sun"]["azimuth_deg"], s["azimuth_deg"][3], places=12)
 
 
+class PlotMatchesCli(Tmp):
+    """skypol.plot_estimate draws what `skypol estimate --plot` draws, from the same C++."""
+
+    def test_same_picture_and_marks(self):
+        import matplotlib.image as mpimg
+        out = self.path("m.exr")
+        cli("render", "-q", MARSEILLE, "--set", "camera.binning=16", "--set", "camera.heading_deg=30", "-o", out)
+        # The channels `skypol estimate` reads (skypole/report.h estimator_channels).
+        stack = skypol.read_stack(out)
+        names = [c for c in stack.channel_names if c == "mask" or c.startswith(("DoLP.", "AoLP."))]
+        stack = skypol.read_stack(out, names)
+        e = skypol.estimate(stack, "sun_vector")
+        self.assertTrue(e.valid, e.why_invalid)
+        mine = self.path("py.png")
+        self.assertEqual(skypol.plot_estimate(stack, e, mine), [mine])
+        theirs = self.path("cli.png")
+        cli("estimate", "-q", out, "-m", "sun_vector", "--plot", theirs)
+        a, b = mpimg.imread(mine), mpimg.imread(theirs)
+        self.assertEqual(a.shape, b.shape)
+        self.assertTrue(np.array_equal(a, b), "the Python picture differs from the CLI's")
+        # The answer's magenta x and the truth's white + in the first panel (the left third), as far
+        # apart in picture pixels as the estimate's pixel and the truth's (one picture pixel per frame
+        # pixel at this size).
+        rgb = np.round(a[..., :3] * 255)
+        # Above the legend, whose colour swatches (the first thing at x = 20 below the title) repeat the marks' colours.
+        background = rgb[0, 0]
+        legend_top = next(y for y in range(60, rgb.shape[0]) if not np.array_equal(rgb[y, 20], background))
+        left = rgb[:legend_top, : rgb.shape[1] // 3]
+        def centre(colour):
+            ys, xs = np.nonzero(np.all(np.abs(left - colour) <= 1, axis=-1))
+            self.assertGreater(len(xs), 9, colour)
+            return np.array([xs.mean(), ys.mean()])
+        truth = stack.truths[0]["pole_pixel"]
+        shift = centre([255, 0, 255]) - centre([255, 255, 255])
+        self.assertLess(np.hypot(*(shift - (np.array(e.pixel) - np.array(truth)))), 1.0)
+        # A folder: one picture per estimate, named by its method; dicts work as Estimates do.
+        folder = self.path("plots") + "/"
+        d = skypol.estimate(stack, "great_circle", as_dict=True)
+        self.assertEqual(skypol.plot_estimate(stack, [e, d], folder),
+                         [folder + "sun_vector.png", folder + "great_circle.png"])
+
+
 if __name__ == "__main__":
     unittest.main(verbosity=2)

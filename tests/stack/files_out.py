@@ -87,14 +87,39 @@ for part in range(3):
     check(js["skypol:headingDeg"] == 37.1 and js["skypol:tiltDeg"] == 4.5, f"part {part}: heading/tilt {js['skypol:headingDeg']}")
 check(info["parts"][1]["skypol:unixTime"] == 1655796600.5, f"unixTime of part 1: {info['parts'][1]['skypol:unixTime']}")
 
-# export: npy (rows, cols, channels), single-part EXR and TIFF, PNG of DoLP; each frame's values
-# are the stack's exactly (PNG: round(DoLP * 65535)).
+# export: npy (rows, cols, channels), single-part EXR, TIFF one channel per file (the form every
+# reader of docs/exr-format.md opens), PNG of DoLP; each frame's values are the stack's exactly
+# (PNG: round(DoLP * 65535)).
+import cv2  # python3-opencv (scripts/packages.txt): the reader the TIFF default is chosen for
+from PIL import Image  # python3-pil
 for fmt in ["npy", "exr", "tiff"]:
     out = os.path.join(scratch, fmt)
     subprocess.run([skypol, "export", "-q", stack, "-f", fmt, "-o", out], check=True)
     files = sorted(glob.glob(os.path.join(out, "small_*." + fmt)))
-    check(len(files) == 3, f"{fmt}: {len(files)} files")
-    for part, path in enumerate(files):
+    check(len(files) == (15 if fmt == "tiff" else 3), f"{fmt}: {len(files)} files")
+    for part in range(3):
+        if fmt == "tiff":
+            # small_NNN_TIME.<channel>.tiff, one float32 channel each, in OpenImageIO, OpenCV and Pillow.
+            first = next(f for f in files if f"_{part:03d}_" in f and f.endswith(f".{channels[0]}.tiff"))
+            stem = first[: -len(f".{channels[0]}.tiff")]
+            for name in channels:
+                path = f"{stem}.{name}.tiff"
+                check(path in files, f"{path}: not written")
+                i = oiio.ImageInput.open(path)
+                assert i, oiio.geterror()
+                spec = i.spec()
+                a = i.read_image(0, 0, 0, 1, "float")[:, :, 0]
+                i.close()
+                check(spec.nchannels == 1 and spec.format == oiio.FLOAT, f"{path}: {spec.nchannels} {spec.format}")
+                check(np.array_equal(a, reference[part][name]), f"{path}: OpenImageIO: {name} differs from the stack")
+                c = cv2.imread(path, cv2.IMREAD_UNCHANGED)
+                check(c is not None and c.dtype == np.float32 and c.shape == (64, 96), f"{path}: OpenCV read {None if c is None else (c.dtype, c.shape)}")
+                if c is not None:
+                    check(np.array_equal(c, reference[part][name]), f"{path}: OpenCV: {name} differs from the stack")
+                with Image.open(path) as im:
+                    check(im.mode == "F" and np.array_equal(np.asarray(im), reference[part][name]), f"{path}: Pillow: {im.mode}")
+            continue
+        path = files[part]
         if fmt == "npy":
             a = np.load(path)
             check(a.dtype == np.float32 and a.shape == (64, 96, 5), f"{path}: {a.dtype} {a.shape}")
@@ -105,18 +130,17 @@ for fmt in ["npy", "exr", "tiff"]:
             names = list(i.spec().channelnames)
             a = i.read_image(0, 0, 0, 5, "float")
             i.close()
-            if fmt == "exr":
-                # OpenEXR keeps the names (and sorts them): take the channels by name.
-                check(sorted(names) == sorted(channels), f"{path}: channels {names}")
-                a = np.stack([a[:, :, names.index(n)] for n in channels], axis=2)
-            # TIFF keeps no channel names: the channels are in the order asked.
+            # OpenEXR keeps the names (and sorts them): take the channels by name.
+            check(sorted(names) == sorted(channels), f"{path}: channels {names}")
+            a = np.stack([a[:, :, names.index(n)] for n in channels], axis=2)
         for c, name in enumerate(channels):
             check(np.array_equal(a[:, :, c], reference[part][name]), f"{path}: {name} differs from the stack")
-    # The times in the names and in times.csv.
+    # The times in the names and in times.csv (one line per file).
     with open(os.path.join(out, "times.csv")) as f:
         lines = f.read().split("\n")
-    check(lines[0] == "file,time" and lines[2].endswith(",2022-06-21T07:30:00.500Z"), f"{fmt}: times.csv {lines[:3]}")
-    check("20220621T073000.500Z" in files[1], f"{fmt}: name {files[1]}")
+    row = 6 if fmt == "tiff" else 2  # the second frame's first file
+    check(lines[0] == "file,time" and lines[row].endswith(",2022-06-21T07:30:00.500Z"), f"{fmt}: times.csv {lines[:7]}")
+    check("20220621T073000.500Z" in files[row - 1], f"{fmt}: name {files[row - 1]}")
 
 out = os.path.join(scratch, "png")
 subprocess.run([skypol, "export", "-q", stack, "-f", "png", "-c", "DoLP", "-o", out], check=True)
@@ -136,8 +160,11 @@ check(ans["from"] == "pixel" and ans["inside"], f"lens --json answer {ans}")
 back = json.loads(run("lens", "--json", scene, "-d", f"{ans['azimuth_deg']!r},{ans['elevation_deg']!r}"))["answers"][0]
 check(math.hypot(back["pixel"][0] - 30.125, back["pixel"][1] - 20.5) < 1e-9, f"lens --json round trip {back['pixel']}")
 
-version = run("--version")
+version = run("--version").strip()
 check(version.startswith("skypol 0.1.0"), f"--version: {version!r}")
+# Every part's header carries the same text (stack/version.h: one source for both).
+for part in range(3):
+    check(headers[part]["skypol:version"] == version, f"part {part} skypol:version {headers[part]['skypol:version']!r} vs --version {version!r}")
 
 for f in failures:
     print("FAIL:", f)

@@ -239,3 +239,39 @@ TEST_CASE("a preview folder that is not committed leaves nothing behind", "[prev
   }
   CHECK(std::filesystem::is_empty(dir));
 }
+
+TEST_CASE("the estimate picture puts a mark on the panel pixel that samples its frame pixel", "[preview][plot]") {
+  stack::PlotFrame p;
+  p.frame = synthetic();  // 80×60
+  const std::size_t n = p.frame.s0.size();
+  p.categories = {{{0.5f, 0.5f, 0.5f}, "sky"}, {{0.2f, 0.2f, 0.9f}, "other"}};
+  p.category.assign(n, 0);
+  p.category[0] = 1;
+  const Rgb red{1, 0, 0}, green{0, 1, 0};
+  // Frame pixel (47, 31) at step 3 (panels of at most 30 px): panel pixel ((47 − 1) / 3, (31 − 1) / 3).
+  p.marks.push_back({Eigen::Vector2d(47, 31), red, stack::PlotMark::Shape::dot, 0});
+  p.lines.push_back({{Eigen::Vector2d(10, 40), Eigen::Vector2d(70, 40)}, green});
+  p.texts.push_back({"a line long enough to be wrapped, a line long enough to be wrapped, a line long enough", green});
+  int height = 0;
+  const std::vector<float> img = stack::plot_pixels(p, 30, &height);
+  const stack::PreviewLayout l = stack::plot_layout(80, 60, 30);
+  REQUIRE(l.step == 3);
+  REQUIRE(height > l.bar_y + l.bar_h);
+  REQUIRE(img.size() == 3 * static_cast<std::size_t>(l.width * height));
+  const Eigen::Vector2i at = stack::plot_panel_pixel(l, Eigen::Vector2d(47, 31));
+  CHECK(at == Eigen::Vector2i(15, 10));
+  for (int panel = 0; panel < 3; ++panel) {
+    CHECK(pixel(img, l, l.panel_x[panel] + 15, l.panel_y + 10) == red);
+    // Its neighbours are not the mark (a dot of radius 0 is one pixel).
+    CHECK(pixel(img, l, l.panel_x[panel] + 16, l.panel_y + 10) != red);
+    // The line along frame row 40 is panel row 13, from panel column 3 to 23.
+    for (int x = 3; x <= 23; ++x) CHECK(pixel(img, l, l.panel_x[panel] + x, l.panel_y + 13) == green);
+    CHECK(pixel(img, l, l.panel_x[panel] + 2, l.panel_y + 13) != green);
+  }
+  // The third panel colours pixels by category; the corner (0, 0) is outside the image circle: black.
+  CHECK(pixel(img, l, l.panel_x[2] + 13, l.panel_y + 6) == Rgb{0.5f, 0.5f, 0.5f});
+  CHECK(pixel(img, l, l.panel_x[2], l.panel_y) == Rgb{0, 0, 0});
+  // A category that is not listed is refused, naming the problem.
+  p.category[5] = 7;
+  CHECK_THROWS_WITH(stack::plot_pixels(p, 30, &height), Catch::Contains("category"));
+}
