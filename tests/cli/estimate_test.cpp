@@ -58,16 +58,16 @@ TEST_CASE("estimate runs every method on a noisy southern stack; evaluate scores
   INFO(all.out);
   REQUIRE(all.code == 0);
   CHECK(all.out.front() == '[');
-  CHECK(count(all.out, "\"method\": ") == 7);  // six methods and auto
+  CHECK(count(all.out, "\"method\": ") == 8);  // seven methods and auto
   // Sydney sees the south celestial pole; a method that declines says why, with the same keys.
-  CHECK(count(all.out, "\"pole\": \"south\"") + count(all.out, "\"pole\": null") == 7);
+  CHECK(count(all.out, "\"pole\": \"south\"") + count(all.out, "\"pole\": null") == 8);
   CHECK(count(all.out, "\"pole\": \"north\"") == 0);
   CHECK(count(all.out, "\"valid\": false") == count(all.out, "\"pole\": null"));
-  CHECK(count(all.out, "\"true_latitude_deg\": -33.860000") == 7);
-  CHECK(count(all.out, "\"cone95_deg\": ") == 7);
-  CHECK(count(all.out, "\"sigma_bearing_deg\": ") == 7);
-  CHECK(count(all.out, "\"sigma_latitude_deg\": ") == 7);
-  CHECK(count(all.out, "\"why_invalid\": ") == 7);
+  CHECK(count(all.out, "\"true_latitude_deg\": -33.860000") == 8);
+  CHECK(count(all.out, "\"cone95_deg\": ") == 8);
+  CHECK(count(all.out, "\"sigma_bearing_deg\": ") == 8);
+  CHECK(count(all.out, "\"sigma_latitude_deg\": ") == 8);
+  CHECK(count(all.out, "\"why_invalid\": ") == 8);
   CHECK_THAT(all.out, Catch::Contains("\"method\": \"auto\", \"valid\": true"));
 
   // The sun-vector method (AoLP of every pixel) is within a degree even with sensor noise, and the
@@ -152,8 +152,8 @@ TEST_CASE("--site unknown: the ephemeris declines, auto is site-free; skypol met
   const Result list = run("methods --json");
   REQUIRE(list.code == 0);
   CHECK(list.out.front() == '[');
-  CHECK(count(list.out, "\"name\": ") == 6);
+  CHECK(count(list.out, "\"name\": ") == 7);
   CHECK_THAT(list.out, Catch::Contains("{\"name\": \"sun_vector_ephemeris\"") && Catch::Contains("\"needs_site\": true"));
   CHECK_THAT(run("methods").out, Catch::Contains("needs the site") && Catch::Contains("auto"));
-  CHECK_THAT(run("estimate --help").out, Catch::Contains("sun_dolp, auto, or all") && Catch::Contains("--site"));
+  CHECK_THAT(run("estimate --help").out, Catch::Contains("sun_azimuth, auto, or all") && Catch::Contains("--site"));
 }
