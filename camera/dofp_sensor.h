@@ -155,8 +155,8 @@ double clip_level_dn(const DofpSensor& sensor);
 // clip_level_dn within its footprint (±1 pixel on a mono sensor's 2-pixel lattices, ±3 on a colour
 // one's 4-pixel lattices). There the Stokes vector is wrong, and not by noise: a clipped polarizer
 // reads less than it saw, so DoLP falls and AoLP turns away from that polarizer's angle, alike in
-// every frame (a mono sensor 80 % past full well at the brightest sky moved sun_vector_ephemeris'
-// heading by 0.28°, 6σ, in every one of 40 noise draws: docs/benchmarks-calibration.md, 7k).
+// every frame, which no jackknife sees (docs/benchmarks-calibration.md measures how far it moves
+// a heading).
 std::vector<std::uint8_t> clipped_pixels(const DofpSensor& sensor, std::span<const std::uint16_t> raw);
 // Masks the pixels `clipped` marks (mask = 0) and writes `clipped_sky`: 1 where such a pixel was sky
 // (mask > 0 before), else 0 — the stack's "clipped" channel (docs/exr-format.md). Renders and
