@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 
 #include "camera/orientation.h"
+#include "sky/sun.h"
 #include "sky/time.h"
 
 namespace skypol::skypole {
@@ -542,6 +543,12 @@ void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& nc
   if (px && px->x() >= -0.5 && px->y() >= -0.5 && px->x() <= sky.width - 0.5 &&
       px->y() <= sky.height - 0.5)
     e.pixel = *px;
+}
+
+Eigen::Vector3d ncp_camera_at(const SkyImages& sky, double heading_rad, double latitude_deg) {
+  const Eigen::Matrix3d world_from_level =
+      Eigen::AngleAxisd(-heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return sky.level_from_camera.transpose() * world_from_level.transpose() * sky::north_celestial_pole(latitude_deg);
 }
 
 PoleEstimate make_estimate(std::string method, const SkyImages& sky,

@@ -168,6 +168,11 @@ std::string_view pole_beyond_words(Unusable u);
 void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& ncp_camera,
                 const InputOptions& options);
 
+// The north celestial pole of an observer at latitude_deg, in the camera frame of `sky`, for a camera
+// turned to heading_rad (world = Rz(−heading)·level, estimate.h): where the methods that find the
+// heading and take or fit the latitude place their pole.
+Eigen::Vector3d ncp_camera_at(const SkyImages& sky, double heading_rad, double latitude_deg);
+
 // A valid PoleEstimate placed at `ncp_camera` (place_pole).
 PoleEstimate make_estimate(std::string method, const SkyImages& sky,
                            const Eigen::Vector3d& ncp_camera, const InputOptions& options);

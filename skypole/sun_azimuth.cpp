@@ -87,7 +87,7 @@ Eigen::VectorXd residuals(const std::vector<Sight>& sights, const Eigen::Vector3
 double elevation_rms(const std::vector<Sight>& sights, double lat, double lon) {
   double sq = 0;
   for (const Sight& s : sights) {
-    const double e = std::asin(std::clamp(sun_enu(s, lat, lon).z(), -1.0, 1.0));
+    const double e = sky::elevation_of(sun_enu(s, lat, lon));
     sq += (e - s.elevation) * (e - s.elevation);
   }
   return std::sqrt(sq / static_cast<double>(sights.size()));
@@ -219,7 +219,7 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
     const Eigen::Vector3d& l = suns_level[t];
     Sight s;
     s.azimuth = std::atan2(l.x(), l.y());
-    s.elevation = std::asin(std::clamp(l.z(), -1.0, 1.0));
+    s.elevation = sky::elevation_of(l);
     s.weight = std::hypot(l.x(), l.y());
     s.geocentric = geocentric_sun(times[t]);
     sights.push_back(s);
@@ -270,12 +270,11 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
   }
   std::sort(minima.begin(), minima.end(), [](const Minimum& a, const Minimum& b) { return a.cost < b.cost; });
   const Minimum& best = minima.front();
-  fix.latitude_deg = best.x(0) / kDeg;
+  fix.latitude_deg = std::clamp(best.x(0) / kDeg, -90.0, 90.0);  // the fit clamps φ to ±π/2; its degrees may round past 90
   fix.longitude_deg = best.x(1) / kDeg;
   fix.heading_deg = best.x(2) / kDeg;
   fix.rms_rad = std::sqrt(best.cost / static_cast<double>(sights.size()));
   fix.elevation_rms_deg = elevation_rms(sights, best.x(0), best.x(1)) / kDeg;
-  if (minima.size() > 1) fix.second_cost_ratio = minima[1].cost / std::max(best.cost, 1e-300);
   if (minima.size() > 1 && minima[1].cost <= (1 + ambiguity_margin) * best.cost) {
     char buf[200];
     std::snprintf(buf, sizeof buf,
@@ -332,11 +331,7 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
   }
   const AzimuthFix fix = fix_from_sun_azimuths(level, times, params.ambiguity_margin);
   if (!fix.ok) return fail(fix.why);
-  const double psi = fix.heading_deg * kDeg, lat = fix.latitude_deg * kDeg;
-  const Eigen::Matrix3d world_from_level = Eigen::AngleAxisd(-psi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d ncp_world(0, std::cos(lat), std::sin(lat));
-  const Eigen::Vector3d ncp = sky.level_from_camera.transpose() * world_from_level.transpose() * ncp_world;
-  PoleEstimate e = make_estimate(kMethod, sky, ncp, params.input);
+  PoleEstimate e = make_estimate(kMethod, sky, ncp_camera_at(sky, fix.heading_deg * kDeg, fix.latitude_deg), params.input);
   char buf[120];
   std::snprintf(buf, sizeof buf, "fitted longitude %.3f°; suns' elevations %.3f° rms from the fit's", fix.longitude_deg,
                 fix.elevation_rms_deg);

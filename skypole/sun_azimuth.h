@@ -62,7 +62,6 @@ struct AzimuthFix {
   double heading_deg = 0;  // world azimuth = level azimuth + heading
   double rms_rad = 0;      // RMS of cos e · azimuth residual
   double elevation_rms_deg = 0;  // RMS of the measured suns' elevations less the fitted site's
-  double second_cost_ratio = 0;  // the best distinct second minimum's cost over the best one's (0: none)
 };
 AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
                                  const std::vector<sky::Instant>& times, double ambiguity_margin = 1.0);

@@ -431,9 +431,7 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
       elevation_sq += turn * turn;
     }
     const double lat = site.latitude_deg * kDeg;
-    const Eigen::Vector3d ncp_world(0, std::cos(lat), std::sin(lat));
-    const Eigen::Vector3d ncp = sky.level_from_camera.transpose() * world_from_level.transpose() * ncp_world;
-    result.estimate = make_estimate(method, sky, ncp, params.input);
+    result.estimate = make_estimate(method, sky, ncp_camera_at(sky, psi, site.latitude_deg), params.input);
     result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                             std::string("ephemeris mode: latitude is the given site's");
     result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kDeg;
