@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include <Eigen/Geometry>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "skypole/enum_names.h"
@@ -115,19 +116,36 @@ ClassicResult estimate_classic(const stack::Stack& stack, const ClassicParams& p
   return classic_from(prepare_classic(stack, params), params);
 }
 
-ClassicPrepared prepare_classic(const stack::Stack& stack, const ClassicParams& params) {
-  const auto t_start = std::chrono::steady_clock::now();
-  const char* method = "classic";
+std::size_t classic_min_frames(const ClassicParams& params) {
+  return params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
+}
+
+namespace {
+
+void check_params(const ClassicParams& params) {
   if (params.pairs == PairMode::interval && params.interval < 1)
     throw std::invalid_argument("classic: pair interval must be ≥ 1 frame, got " +
                                 std::to_string(params.interval));
   if (!(params.threshold > 0) || !std::isfinite(params.threshold))
     throw std::invalid_argument("classic: threshold must be > 0, got " +
                                 std::to_string(params.threshold));
-  const std::size_t min_frames =
-      params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
+}
+
+}  // namespace
+
+ClassicPrepared prepare_classic(const stack::Stack& stack, const ClassicParams& params) {
+  const auto t_start = std::chrono::steady_clock::now();
+  check_params(params);
+  ClassicPrepared out = prepare_classic(prepare_sky_images(stack, params.input, classic_min_frames(params), "classic"), params);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return out;
+}
+
+ClassicPrepared prepare_classic(SkyImages sky, const ClassicParams& params) {
+  const auto t_start = std::chrono::steady_clock::now();
+  check_params(params);
   ClassicPrepared out;
-  out.sky = prepare_sky_images(stack, params.input, min_frames, method);
+  out.sky = std::move(sky);
   out.radius_px = params.filter_radius_px.value_or(default_filter_radius_px(out.sky.width, out.sky.height));
   out.filtered = filter_all(out.sky, out.radius_px);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -144,8 +162,7 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
   std::vector<int> frame;
   for (int i = 0; i < static_cast<int>(sky.frames()); ++i)
     if (!keep_frame || keep_frame->empty() || (*keep_frame)[static_cast<std::size_t>(i)]) frame.push_back(i);
-  const std::size_t min_frames =
-      params.pairs == PairMode::interval ? static_cast<std::size_t>(params.interval) + 2 : 3;
+  const std::size_t min_frames = classic_min_frames(params);
   if (frame.size() < min_frames)
     throw std::invalid_argument("classic: needs at least " + std::to_string(min_frames) + " frames, got " +
                                 std::to_string(frame.size()));
@@ -159,19 +176,29 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
     a = frame[static_cast<std::size_t>(a)];
     b = frame[static_cast<std::size_t>(b)];
   }
-  std::vector<std::vector<float>> kept_filtered;  // find_suns reads the kept frames only
+  FrameImages kept_filtered;  // find_suns reads the kept frames only
   for (int i : frame) kept_filtered.push_back(prepared.filtered[static_cast<std::size_t>(i)]);
   const std::vector<std::vector<float>>& filtered = prepared.filtered;
 
   const std::size_t n = sky.pixels();
-  // Each pair on its own (in parallel), then the sum in pair order.
-  std::vector<std::vector<float>> diffs(im.pairs.size());
-  std::vector<std::vector<std::uint8_t>> bins(im.pairs.size());
+  // Each pair on its own (in parallel), each thread with one difference image and its count of
+  // low differences per pixel, reused from pair to pair: the memory is a few images whatever the
+  // number of pairs. The sum adds the threads' counts, whole numbers, so its order does not matter.
+  struct Scratch {
+    std::vector<float> diff;
+    std::vector<std::uint32_t> count;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  std::vector<std::vector<float>> diffs(params.keep_intermediates ? im.pairs.size() : 0);
+  std::vector<std::vector<std::uint8_t>> bins(params.keep_intermediates ? im.pairs.size() : 0);
   im.thresholds.assign(im.pairs.size(), 0.0f);
   tbb::parallel_for(std::size_t{0}, im.pairs.size(), [&](std::size_t k) {
     const auto& fa = filtered[static_cast<std::size_t>(im.pairs[k].first)];
     const auto& fb = filtered[static_cast<std::size_t>(im.pairs[k].second)];
-    std::vector<float> diff(n, 0.0f);
+    Scratch& s = scratch.local();
+    if (s.diff.empty()) s.diff.assign(n, 0.0f);  // 0 where invalid, in every pair (the same pixels)
+    if (s.count.empty()) s.count.assign(n, 0);
+    std::vector<float>& diff = s.diff;
     for (std::size_t i = 0; i < n; ++i)
       if (sky.valid[i]) diff[i] = std::abs(fa[i] - fb[i]);
     float thr = static_cast<float>(params.threshold);
@@ -181,15 +208,17 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
         thr = std::max(thr, static_cast<float>(params.noise_floor) *
                                 difference_noise(fa, fb, sky, radius));
     }
-    std::vector<std::uint8_t> bin(n, 0);
-    for (std::size_t i = 0; i < n; ++i) bin[i] = sky.valid[i] && diff[i] <= thr;
+    for (std::size_t i = 0; i < n; ++i) s.count[i] += sky.valid[i] && diff[i] <= thr ? 1 : 0;
     im.thresholds[k] = thr;
-    bins[k] = std::move(bin);
-    if (params.keep_intermediates) diffs[k] = std::move(diff);
+    if (params.keep_intermediates) {
+      bins[k].assign(n, 0);
+      for (std::size_t i = 0; i < n; ++i) bins[k][i] = sky.valid[i] && diff[i] <= thr;
+      diffs[k] = diff;
+    }
   });
   std::vector<float> sum(n, 0.0f);
-  for (const auto& bin : bins)
-    for (std::size_t i = 0; i < n; ++i) sum[i] += bin[i] ? 1.0f : 0.0f;
+  for (const Scratch& s : scratch)
+    for (std::size_t i = 0; i < n; ++i) sum[i] += static_cast<float>(s.count[i]);
   if (params.keep_intermediates) {
     im.differences = std::move(diffs);
     im.binaries = std::move(bins);
@@ -214,7 +243,7 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
   };
   const auto keep_images = [&] {
     if (!params.keep_intermediates) return;
-    im.filtered = kept_filtered;
+    for (std::size_t k = 0; k < kept_filtered.size(); ++k) im.filtered.push_back(kept_filtered[k]);
     im.sum = sum;
     im.maximum.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) im.maximum[i] = chosen != 0 && label[i] == chosen;

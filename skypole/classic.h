@@ -85,6 +85,11 @@ struct ClassicPrepared {
   double seconds = 0;
 };
 ClassicPrepared prepare_classic(const stack::Stack& stack, const ClassicParams& params);
+// The same on a sky already prepared for classic's frames (StackSky::sky(classic_min_frames(params),
+// "classic")), which borrows the stack's DoLP: the stack must outlive the result.
+ClassicPrepared prepare_classic(SkyImages sky, const ClassicParams& params);
+// The frames classic needs: 3 (2 differences), or interval + 2 for PairMode::interval.
+std::size_t classic_min_frames(const ClassicParams& params);
 // Steps 2–6 on the frames `keep_frame` keeps (nullptr or empty: all), paired among themselves as
 // a stack of only those frames would be: the answer a sub-stack gives, without its re-reading.
 ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams& params,

@@ -22,7 +22,8 @@ Method classic_method() {
     auto p = std::make_shared<ClassicParams>();
     p->input = whole.input();
     p->keep_intermediates = images != nullptr;
-    auto prepared = std::make_shared<const ClassicPrepared>(prepare_classic(whole.stack(), *p));
+    auto prepared = std::make_shared<const ClassicPrepared>(
+        prepare_classic(whole.sky(classic_min_frames(*p), "classic"), *p));
     ClassicResult r = classic_from(*prepared, *p);
     if (images) *images = std::move(r.images);
     p->keep_intermediates = false;

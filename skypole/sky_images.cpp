@@ -183,7 +183,7 @@ SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
       clipped.resize(n, 0);
       for (std::size_t i = 0; i < n; ++i) clipped[i] |= c[i];
     }
-    sky.dolp.push_back(stack.frames[k].channels.at("DoLP." + sky.band));
+    sky.dolp.push_back(stack.frames[k].channels.at("DoLP." + sky.band));  // borrowed
   }
   if (left_out)
     for (std::size_t i = 0; i < n; ++i)
@@ -365,10 +365,10 @@ std::optional<double> sample_bilinear(const std::vector<float>& image, const Sky
   return (1 - ay) * ((1 - ax) * at(i00) + ax * at(i10)) + ay * ((1 - ax) * at(i01) + ax * at(i11));
 }
 
-std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
-                                                      const std::vector<std::vector<float>>& dolp) {
+std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky, const FrameImages& dolp) {
   std::vector<std::optional<Eigen::Vector3d>> suns;
-  for (const auto& img : dolp) {
+  for (std::size_t t = 0; t < dolp.size(); ++t) {
+    const std::vector<float>& img = dolp[t];
     std::size_t best = 0;
     float best_v = std::numeric_limits<float>::infinity();
     for (std::size_t i = 0; i < img.size(); ++i)

@@ -19,7 +19,35 @@
 
 namespace skypol::skypole {
 
+// One image per frame, borrowed, not copied: a stack's channel, or images a method made and keeps
+// (its filtered DoLP). The images must outlive this, as a SkyImages' lens must outlive it. Copies
+// of a SkyImages (a jackknife's views, a masked sky) then share the stack's pixels instead of
+// holding the frames again, which for a day of full-resolution frames is gigabytes.
+class FrameImages {
+ public:
+  FrameImages() = default;
+  // Borrows each of `images`: a function that reads frames takes a stack's or its own.
+  FrameImages(const std::vector<std::vector<float>>& images) {  // NOLINT(google-explicit-constructor)
+    for (const std::vector<float>& image : images) images_.push_back(&image);
+  }
+  void push_back(const std::vector<float>& image) { images_.push_back(&image); }
+  const std::vector<float>& operator[](std::size_t k) const { return *images_[k]; }
+  std::size_t size() const { return images_.size(); }
+  bool empty() const { return images_.empty(); }
+  // Whether two hold the same pixels (the same values, wherever they live).
+  friend bool operator==(const FrameImages& a, const FrameImages& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t k = 0; k < a.size(); ++k)
+      if (a[k] != b[k]) return false;
+    return true;
+  }
+
+ private:
+  std::vector<const std::vector<float>*> images_;
+};
+
 // A stack reduced to what the estimators use. Images are row-major, index = y·width + x.
+// It borrows the stack's lens and DoLP channels: the stack must outlive it.
 struct SkyImages {
   int width = 0;
   int height = 0;
@@ -32,7 +60,7 @@ struct SkyImages {
   // Directions of the sky pixels a sensor masked because its demosaic read a clipped raw value in
   // some frame (the stack's "clipped" channel, render/sensor_stage.h), if not valid otherwise.
   std::vector<Eigen::Vector3f> clipped_rays;
-  std::vector<std::vector<float>> dolp;        // per frame, as in the stack
+  FrameImages dolp;                            // per frame, the stack's channel (borrowed)
   std::vector<double> times_s;                 // seconds since frame 0
   bool times_known = false;                    // false: all frames carry the same time
   int valid_count = 0;
@@ -116,8 +144,7 @@ std::optional<double> sample_bilinear(const std::vector<float>& image, const Sky
 // of DoLP, is below it in daytime). nullopt for a frame whose lowest DoLP is not sun-like (above
 // a quarter of the frame's 99th percentile: the sun is not in view). The direction is the weighted
 // centroid of the low-DoLP pixels within 10° of the minimum.
-std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky,
-                                                      const std::vector<std::vector<float>>& dolp);
+std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky, const FrameImages& dolp);
 
 struct HemisphereDecision {
   bool ok = false;

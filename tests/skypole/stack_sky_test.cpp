@@ -191,3 +191,28 @@ TEST_CASE("an answer and its uncertainty are the same on one thread as on many",
   }
   CHECK(valid >= 4);
 }
+
+// The prepared skies of a stack and of its views hold no copy of the frames: each frame's DoLP is
+// the stack's own channel (sky_images.h FrameImages), so the memory an estimate and its
+// jackknives keep does not grow with the number of views. A copy would pass every value check
+// above and fail here.
+TEST_CASE("prepared skies and their views borrow the stack's DoLP, they do not copy it", "[skypole][stack_sky]") {
+  const stack::Stack stack = awkward_day();
+  const skypole::StackSky whole(stack, {});
+  const skypole::SkyImages& sky = whole.sky(3, "test");
+  std::vector<std::uint8_t> keep(stack.frames.size(), 1);
+  keep[2] = 0;
+  const skypole::SkyImages kept = skypole::SkyView::kept(whole, keep).prepared(3, "test");
+  const skypole::SkyImages sector =
+      skypole::SkyView::without_sector(whole, Eigen::Vector2d(48, 48), 1, 6).prepared(3, "test");
+  const skypole::SkyImages alone = skypole::prepare_sky_images(stack, {}, 3, "test");
+  REQUIRE(sky.frames() == stack.frames.size());
+  REQUIRE(kept.frames() == stack.frames.size() - 1);
+  for (std::size_t k = 0; k < stack.frames.size(); ++k) {
+    const std::vector<float>* channel = &stack.frames[k].channel("DoLP.Y");
+    CHECK(&sky.dolp[k] == channel);
+    CHECK(&sector.dolp[k] == channel);
+    CHECK(&alone.dolp[k] == channel);
+    if (k != 2) CHECK(&kept.dolp[k < 2 ? k : k - 1] == channel);
+  }
+}
