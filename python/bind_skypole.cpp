@@ -57,7 +57,11 @@ std::vector<std::string> plot_estimate(const PyStack& s, const py::list& estimat
 
 }  // namespace
 
+// python/bind_calibration.cpp: the calibration model on the calibration study's rows.
+void bind_calibration(py::module_& m);
+
 void bind_skypole(py::module_& m) {
+  bind_calibration(m);
   m.def("method_names", &skypole::method_names, "The estimators run_method knows (the registry's and auto)");
   m.def("methods_json", &skypole::methods_json,
         "The estimators' registry as JSON: name, description, traits, calibration (`skypol methods --json`)");

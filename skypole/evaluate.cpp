@@ -46,9 +46,6 @@ std::string csv_field(const std::string& s) {
 
 namespace {
 
-// √(χ²₂(0.999) / χ²₂(0.95)) = √(13.8155 / 5.99146).
-constexpr double kAgreeScale = 1.5185;
-
 double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
   return tangent_offset(a, b).norm() * 180.0 / 3.14159265358979323846;
 }
@@ -89,25 +86,21 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
   // uncertainty (√χ²₂(0.999) = 3.72 σ against the 95 % cone's 2.45 σ: the root-sum-square of their
   // 95 % cones × 1.52); at the 95 % level one answer in ten of two calibrated methods would be
   // called a disagreement by chance. The centre is the answer with the most agreeing others
-  // (ties: the narrowest cone).
-  const auto agree = [](const PoleEstimate& a, const PoleEstimate& b) {
-    return angle_deg(a, b) <= kAgreeScale * std::hypot(a.cone95_deg, b.cone95_deg);
-  };
-  const PoleEstimate* centre = nullptr;
-  std::size_t best = 0;
-  for (const PoleEstimate* a : valid) {
-    std::size_t n = 0;
-    for (const PoleEstimate* b : valid) n += agree(*a, *b) ? 1 : 0;
-    if (!centre || n > best || (n == best && a->cone95_deg < centre->cone95_deg)) {
-      centre = a;
-      best = n;
-    }
+  // (ties: the narrowest cone); the rule is auto_choice (uncertainty.h).
+  std::vector<AutoCandidate> candidates;
+  for (const PoleEstimate* b : valid) {
+    const Method* m = find_method(b->method);
+    candidates.push_back({b->cone95_deg, b->sigma_deg, m && m->traits.auto_answers_alone});
   }
+  const AutoChoice choice =
+      auto_choice(candidates, [&](std::size_t a, std::size_t b) { return angle_deg(*valid[a], *valid[b]); });
+  const PoleEstimate* centre = valid[choice.centre];
   std::vector<const PoleEstimate*> members, dissent;
-  for (const PoleEstimate* b : valid) (agree(*centre, *b) ? members : dissent).push_back(b);
+  for (const std::size_t b : choice.members) members.push_back(valid[b]);
+  for (const std::size_t b : choice.dissent) dissent.push_back(valid[b]);
   // A dissenting method that is as sure as the group and outvotes it cannot be told apart: the
   // data do not decide, so auto declines rather than pick.
-  if (members.size() <= dissent.size() && valid.size() > 1) {
+  if (!choice.decided) {
     std::string who;
     for (const PoleEstimate* b : valid) {
       char buf[128];
@@ -124,25 +117,19 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
   // the agreeing answers, stated with the σ of the sharpest of them: the methods read the same
   // frames, so their errors are correlated, and the mean's own σ would claim more than the data
   // hold (docs/calibration-history.md, "auto's rule", compares it with the alternatives).
-  const auto ephemeris = std::find_if(members.begin(), members.end(), [](const PoleEstimate* b) {
-    const Method* m = find_method(b->method);
-    return m && m->traits.auto_answers_alone;
-  });
-  const PoleEstimate* sharpest = *std::min_element(
-      members.begin(), members.end(), [](const PoleEstimate* a, const PoleEstimate* b) { return a->sigma_deg < b->sigma_deg; });
-  const PoleEstimate* chosen = ephemeris != members.end() ? *ephemeris : sharpest;
+  const PoleEstimate* sharpest = valid[choice.sharpest];
+  const PoleEstimate* chosen = valid[choice.chosen];
   out = *chosen;
   std::string how = "the answer of " + chosen->method;
-  if (ephemeris == members.end() && members.size() > 1) {
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    double weights = 0;
+  if (choice.mean) {
+    std::vector<Eigen::Vector2d> offsets;
+    std::vector<double> sigmas;
     for (const PoleEstimate* b : members) {
-      const double w = 1.0 / std::max(b->sigma_deg * b->sigma_deg, 1e-12);
-      sum += w * tangent_offset(*sharpest, *b);
-      weights += w;
+      offsets.push_back(tangent_offset(*sharpest, *b));
+      sigmas.push_back(b->sigma_deg);
     }
     const SkyImages frame = sky_geometry(stack, input);
-    const Eigen::Vector3d end_level = tangent_moved(*sharpest, sum / weights);
+    const Eigen::Vector3d end_level = tangent_moved(*sharpest, inverse_variance_mean(offsets, sigmas));
     const Eigen::Vector3d ncp_level = sharpest->is_north ? end_level : Eigen::Vector3d(-end_level);
     // The sharpest's answer moved to the mean: its σ stays, its position is the mean's (out.note is
     // written below from `how`; place_pole fills it only when the bearing is undefined).
@@ -212,7 +199,11 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& wh
   const InputOptions& input = whole.input();
   if (!e.valid || !input.calibrated) return;
   char buf[640];
-  if (e.residual_deg > c.max_residual_deg) {
+  // The readings each gate compares (uncertainty.h gate_declines), filled as the gates need them.
+  CalibrationReadings r;
+  r.residual_deg = e.residual_deg;
+  r.model_misfit = e.model_misfit;
+  if (gate_declines(Gate::residual, c, r)) {
     std::snprintf(buf, sizeof buf,
                   "the fit's residual %.2f° is above %.2f°, beyond which this method's error was not predictable "
                   "in the calibration study (cloud, a sky unlike the method's model, or noise)",
@@ -221,7 +212,7 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& wh
     e.why_invalid = buf;
     return;
   }
-  if (e.model_misfit > c.max_model_misfit) {
+  if (gate_declines(Gate::model_misfit, c, r)) {
     std::snprintf(buf, sizeof buf,
                   "the sky is not the model this method fits: its DoLP departs from the fitted law by %.1f %% of "
                   "the fitted maximum beyond the images' noise (a multiply scattering sky, haze or cloud), above "
@@ -233,7 +224,8 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& wh
   }
   const double window_min =
       (stack.frames.back().truth.time.unix_seconds - stack.frames.front().truth.time.unix_seconds) / 60.0;
-  if (window_min < c.min_window_min) {
+  r.window_min = window_min;
+  if (gate_declines(Gate::window, c, r)) {
     std::snprintf(buf, sizeof buf,
                   "the window (%.0f min) is shorter than the %.0f min this method needs: the sun's arc is too "
                   "short to fix the pole reliably (calibration study)",
@@ -249,9 +241,9 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& wh
     if (!unread) unread = unreadable_sky(sky_images());
     return *unread;
   };
-  if (input.cloud_gate && std::isfinite(c.max_unpolarized_share)) {
-    const double share = unreadable().unpolarized;
-    if (share > c.max_unpolarized_share) {
+  if (input.cloud_gate && gate_set(Gate::unpolarized, c)) {
+    const double share = r.unpolarized_share = unreadable().unpolarized;
+    if (gate_declines(Gate::unpolarized, c, r)) {
       // Where the sensor clipped part of that sky, the reason says how much, and the cure.
       const double clipped = unreadable().clipped;
       const bool clipping = clipped > 0.005;
@@ -275,9 +267,9 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& wh
       return;
     }
   }
-  if (std::isfinite(c.max_clipped_share)) {
-    const double clipped = unreadable().clipped;
-    if (clipped > c.max_clipped_share) {
+  if (gate_set(Gate::clipped, c)) {
+    const double clipped = r.clipped_share = unreadable().clipped;
+    if (gate_declines(Gate::clipped, c, r)) {
       std::snprintf(buf, sizeof buf,
                     "the sensor clipped the sky: %.0f %% of the sky away from the sun and antisun clipped in some "
                     "frame, which no method reads, above the %.0f %% beyond which this method's calibration holds "
@@ -288,9 +280,9 @@ void apply_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& wh
       return;
     }
   }
-  if (std::isfinite(c.max_ring_anisotropy)) {
-    const double a = ring_anisotropy(sky_images());
-    if (a > c.max_ring_anisotropy) {
+  if (gate_set(Gate::ring_anisotropy, c)) {
+    const double a = r.ring_anisotropy = ring_anisotropy(sky_images());
+    if (gate_declines(Gate::ring_anisotropy, c, r)) {
       std::snprintf(buf, sizeof buf,
                     "the sky is not the single-scattering shape this method assumes: around the sun its DoLP "
                     "varies by %.0f %% of its range at equal angle from it (neutral points moved by multiple "
@@ -366,26 +358,20 @@ PoleEstimate run_with(SharedWork& work, const Method& method, ClassicImages* cla
     jack.sector_groups = kSkySectors;
   }
   if (input.calibrated) {
-    // The residual term counts only the part of the residual beyond what the pixel grid itself
-    // imposes (classic's blob is a few pixels wide at any resolution: that much says nothing of its
-    // error, and at binning 16 a pixel is 1.5°).
-    const double residual_excess =
-        std::max(0.0, e.residual_deg - cal.residual_pixels * pixel_angle_deg(*stack.camera));
-    if ((cal.unpolarized_deg > 0 || cal.sector_unpolarized > 0 || cal.sector_clipped > 0) && !unread)
-      unread = unreadable_sky(whole.sky(1, e.method));
-    const double unpolarized = unread ? unread->unpolarized : 0.0;
-    const double clipped = unread ? unread->clipped : 0.0;
-    const double floor = std::sqrt(cal.floor_deg * cal.floor_deg + std::pow(cal.residual_share * residual_excess, 2) +
-                                   std::pow(cal.unpolarized_deg * unpolarized, 2) +
-                                   std::pow(cal.elevation_share * e.sun_elevation_misfit_deg, 2) +
-                                   std::pow(cal.misfit_deg * e.model_misfit, 2));
-    set_calibrated_uncertainty(e, jack, cal.inflation,
-                               cal.sector_inflation + cal.sector_unpolarized * unpolarized + cal.sector_clipped * clipped,
-                               floor);
+    // The σ terms' readings (uncertainty.h calibrated_covariance); the sky's shares are measured
+    // only when a term reads them (or a gate measured them already).
+    CalibrationReadings r;
+    r.residual_deg = e.residual_deg;
+    r.pixel_deg = pixel_angle_deg(*stack.camera);
+    if (reads_unreadable_sky(cal) && !unread) unread = unreadable_sky(whole.sky(1, e.method));
+    r.unpolarized_share = unread ? unread->unpolarized : 0.0;
+    r.clipped_share = unread ? unread->clipped : 0.0;
+    r.sun_elevation_misfit_deg = e.sun_elevation_misfit_deg;
+    r.model_misfit = e.model_misfit;
+    set_stated_uncertainty(e, jack, calibrated_covariance(cal, jack, r));
   } else {
-    // Uncalibrated (what the calibration study measures the factors from): both jackknives as
-    // measured, unwidened, and a floor of 0.05°.
-    set_calibrated_uncertainty(e, jack, 1.0, 1.0, 0.05, false);
+    // Uncalibrated (what the calibration study measures the factors from).
+    set_stated_uncertainty(e, jack, uncalibrated_covariance(jack));
   }
   apply_uncertainty_bound(e, input.max_uncertainty_deg);
   e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -109,26 +109,11 @@ std::string methods_json() {
        << ", \"needs_site\": " << flag(t.needs_site) << ", \"misfit_measured\": " << flag(t.misfit_measured)
        << ", \"auto_answers_alone\": " << flag(t.auto_answers_alone)
        << ",\n  \"calibration\": {";
-    const std::pair<const char*, double> fields[] = {
-        {"inflation", c.inflation},
-        {"floor_deg", c.floor_deg},
-        {"residual_share", c.residual_share},
-        {"max_residual_deg", c.max_residual_deg},
-        {"min_window_min", c.min_window_min},
-        {"max_unpolarized_share", c.max_unpolarized_share},
-        {"residual_pixels", c.residual_pixels},
-        {"max_ring_anisotropy", c.max_ring_anisotropy},
-        {"max_model_misfit", c.max_model_misfit},
-        {"max_clipped_share", c.max_clipped_share},
-        {"sector_inflation", c.sector_inflation},
-        {"unpolarized_deg", c.unpolarized_deg},
-        {"sector_unpolarized", c.sector_unpolarized},
-        {"sector_clipped", c.sector_clipped},
-        {"elevation_share", c.elevation_share},
-        {"misfit_deg", c.misfit_deg},
-    };
-    for (std::size_t f = 0; f < std::size(fields); ++f)
-      os << (f ? ", " : "") << '"' << fields[f].first << "\": " << json_number(fields[f].second);
+    bool first = true;
+    for (const auto& [name, field] : calibration_fields()) {
+      os << (first ? "" : ", ") << '"' << name << "\": " << json_number(c.*field);
+      first = false;
+    }
     os << "}}";
   }
   os << "\n]\n";

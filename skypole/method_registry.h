@@ -19,69 +19,11 @@
 
 #include "skypole/estimate.h"
 #include "skypole/stack_sky.h"
+#include "skypole/uncertainty.h"
 
 namespace skypol::skypole {
 
 struct ClassicImages;
-
-// A method's calibration (skypole/uncertainty.h), measured by the calibration study
-// (docs/benchmarks.md section 7; how each value was found: docs/calibration-history.md). The
-// stated covariance is
-//     C = w²·(inflation²·C_frames + b²·C_sectors) + s²·I,
-//     b = sector_inflation + sector_unpolarized·unpolarized_share + sector_clipped·clipped_share
-// (w²: the widening for the jackknives' few groups, uncertainty.h few_groups_widening2)
-//     s² = floor_deg² + (residual_share·max(0, residual_deg − residual_pixels·pixel))²
-//          + (unpolarized_deg·unpolarized_share)² + (elevation_share·sun_elevation_misfit_deg)²
-//          + (misfit_deg·model_misfit)²
-// (pixel: pixel_angle_deg of the stack's camera, uncertainty.h; the shares: cloud_share.h unreadable_sky)
-// — the frame jackknife sees errors that differ between frames, the sector jackknife errors that
-// live in one part of the sky in every frame, the unpolarized term how much of the sky a clear sky
-// cannot explain, the floor the bias left (a sky unlike the method's model), the residual term a
-// method whose own fit spreads (classic's blob at low resolution). Gates: where the study found the
-// method's error unpredictable — a fit residual above max_residual_deg, a window shorter than
-// min_window_min, a sky more than max_unpolarized_share unpolarized (cloud; skypole/cloud_share.h) —
-// it declines, saying so.
-struct MethodCalibration {
-  std::string method;
-  double inflation = 1.0;
-  double floor_deg = 0.0;
-  double residual_share = 0.0;
-  double max_residual_deg = std::numeric_limits<double>::infinity();
-  double min_window_min = 0.0;
-  double max_unpolarized_share = std::numeric_limits<double>::infinity();
-  double residual_pixels = 0.0;  // the residual term counts residual_deg − this many pixel angles (≥ 0)
-  // Decline a sky whose DoLP is not a function of the angle to the sun beyond this
-  // (ring_anisotropy, skypole/cloud_share.h: neutral points moved by a real sky).
-  double max_ring_anisotropy = std::numeric_limits<double>::infinity();
-  // Decline a sky that departs from the method's own model beyond this (PoleEstimate::model_misfit).
-  double max_model_misfit = std::numeric_limits<double>::infinity();
-  // Decline a sky more than this share clipped by the sensor in some frame (clipped_share,
-  // cloud_share.h), beyond which the method's calibration holds no answer (a method whose σ has
-  // no term for the sky it lost).
-  double max_clipped_share = std::numeric_limits<double>::infinity();
-  // The factor on the sector jackknife's covariance (uncertainty.h; 0: not counted), and a σ term
-  // unpolarized_deg·unpolarized_share (cloud_share.h: cloud, neutral points, saturation — errors
-  // every frame shares, which neither jackknife sees in full).
-  double sector_inflation = 0.0;
-  double unpolarized_deg = 0.0;
-  // The sector factor grows by this per unit of unpolarized share. A cloud's error is shared by every
-  // frame (the cloud stands still) but not by every part of the sky, so under cloud the sector
-  // jackknife measures a bias, where on a clear sky its spread overstates the error (hence factors
-  // under 1).
-  double sector_unpolarized = 0.0;
-  // The sector factor grows by this per unit of clipped share (UnreadableSky::clipped): a sky whose
-  // sun side the sensor masked leaves the six sectors unequal, so that their spread can understate
-  // the error.
-  double sector_clipped = 0.0;
-  // A σ term elevation_share·sun_elevation_misfit_deg (PoleEstimate: the shared error of the
-  // ephemeris' suns that their elevations show and no jackknife resolves).
-  double elevation_share = 0.0;
-  // A σ term misfit_deg·model_misfit, degrees per unit of misfit (PoleEstimate::model_misfit: how far
-  // the sky departs from Rayleigh's law; a multiply scattering sky moves the suns a method finds
-  // alike in every frame and sector, so that neither jackknife sees it, by more the further it
-  // departs). 0: not counted.
-  double misfit_deg = 0.0;
-};
 
 // What run_method does around a method's answer (evaluate.h, uncertainty.h).
 struct MethodTraits {
@@ -136,7 +78,7 @@ struct Method {
   // classic_images, when not null, receives classic's step images. Empty: `bare` on the whole stack.
   std::function<MethodRun(const StackSky& whole, ClassicImages* classic_images)> run;
   MethodTraits traits;
-  MethodCalibration calibration;  // its .method is set to `name` on registration
+  MethodCalibration calibration;  // uncertainty.h; its .method is set to `name` on registration
 };
 
 // The entry functions of the methods of skypole/method_list.h (each defined in its own file).

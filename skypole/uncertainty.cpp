@@ -48,9 +48,8 @@ void set_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& c) {
   const double cos_alt = std::cos(alt);
   const double sb = cos_alt > 1e-9 ? std::sqrt(std::max(c(0, 0), 0.0)) / cos_alt / kDeg : 180.0;
   e.sigma_bearing_deg = std::min(sb, 180.0);
-  const double lmax = lambda_max(c);
-  e.sigma_deg = std::sqrt(lmax) / kDeg;
-  e.cone95_deg = std::min(std::sqrt(kChi2_2_95 * lmax) / kDeg, 180.0);
+  e.sigma_deg = sigma_deg_of(c);
+  e.cone95_deg = cone95_deg_of(c);
 }
 
 Eigen::Vector2d tangent_offset(const PoleEstimate& at, const PoleEstimate& other) {
@@ -207,6 +206,8 @@ std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
 
 double sigma_deg_of(const Eigen::Matrix2d& c) { return std::sqrt(lambda_max(c)) / kDeg; }
 
+double cone95_deg_of(const Eigen::Matrix2d& c) { return std::min(std::sqrt(kChi2_2_95 * lambda_max(c)) / kDeg, 180.0); }
+
 int frame_jackknife_groups(int frames, int max_groups) { return std::min(frames, std::max(max_groups, 2)); }
 
 double few_groups_widening2(double frames_var, int frame_groups, double sectors_var, int sector_groups) {
@@ -222,18 +223,178 @@ double few_groups_widening2(double frames_var, int frame_groups, double sectors_
   return (nu / 2.0) * std::expm1(-2.0 / nu * ln05) / -ln05;
 }
 
-void set_calibrated_uncertainty(PoleEstimate& e, const Jackknives& j, double a, double b, double floor_deg,
-                                bool widen) {
+Eigen::Matrix2d stated_covariance(const Jackknives& j, double a, double b, double floor_deg, bool widen) {
   const double floor = floor_deg * kDeg;
   const Eigen::Matrix2d jack = a * a * j.frames + b * b * j.sectors;
   const double w2 = widen ? few_groups_widening2(a * a * lambda_max(j.frames), j.frame_groups,
-                                                 b * b * lambda_max(j.sectors),
-                                                 b > 0 ? j.sector_groups : 0)
+                                                 b * b * lambda_max(j.sectors), b > 0 ? j.sector_groups : 0)
                           : 1.0;
+  return w2 * jack + Eigen::Matrix2d::Identity() * floor * floor;
+}
+
+Eigen::Matrix2d calibrated_covariance(const MethodCalibration& c, const Jackknives& j, const CalibrationReadings& r) {
+  return stated_covariance(j, c.inflation, calibrated_sector_factor(c, r), calibrated_floor_deg(c, r));
+}
+
+Eigen::Matrix2d uncalibrated_covariance(const Jackknives& j) {
+  return stated_covariance(j, 1.0, 1.0, kUncalibratedFloorDeg, false);
+}
+
+void set_stated_uncertainty(PoleEstimate& e, const Jackknives& j, const Eigen::Matrix2d& covariance_rad2) {
   e.jackknife_frames_rad2 = j.frames;
   e.jackknife_sectors_rad2 = j.sectors;
   e.jackknife_frame_groups = j.frame_groups;
-  set_uncertainty(e, w2 * jack + Eigen::Matrix2d::Identity() * floor * floor);
+  set_uncertainty(e, covariance_rad2);
+}
+
+const std::vector<std::pair<const char*, double MethodCalibration::*>>& calibration_fields() {
+  using C = MethodCalibration;
+  static const std::vector<std::pair<const char*, double C::*>> fields = {
+      {"inflation", &C::inflation},
+      {"floor_deg", &C::floor_deg},
+      {"residual_share", &C::residual_share},
+      {"max_residual_deg", &C::max_residual_deg},
+      {"min_window_min", &C::min_window_min},
+      {"max_unpolarized_share", &C::max_unpolarized_share},
+      {"residual_pixels", &C::residual_pixels},
+      {"max_ring_anisotropy", &C::max_ring_anisotropy},
+      {"max_model_misfit", &C::max_model_misfit},
+      {"max_clipped_share", &C::max_clipped_share},
+      {"sector_inflation", &C::sector_inflation},
+      {"unpolarized_deg", &C::unpolarized_deg},
+      {"sector_unpolarized", &C::sector_unpolarized},
+      {"sector_clipped", &C::sector_clipped},
+      {"elevation_share", &C::elevation_share},
+      {"misfit_deg", &C::misfit_deg},
+  };
+  return fields;
+}
+
+double calibrated_floor_deg(const MethodCalibration& c, const CalibrationReadings& r) {
+  // The residual term counts only the part of the residual beyond what the pixel grid itself
+  // imposes (classic's blob is a few pixels wide at any resolution: that much says nothing of its
+  // error, and at binning 16 a pixel is 1.5°). std::max(0, NaN) is 0: no residual, no term.
+  const double residual_excess = std::max(0.0, r.residual_deg - c.residual_pixels * r.pixel_deg);
+  const double terms[] = {c.floor_deg, c.residual_share * residual_excess, c.unpolarized_deg * r.unpolarized_share,
+                          c.elevation_share * r.sun_elevation_misfit_deg, c.misfit_deg * r.model_misfit};
+  double sum = 0;
+  for (const double t : terms) sum += t * t;
+  return std::sqrt(sum);
+}
+
+double calibrated_sector_factor(const MethodCalibration& c, const CalibrationReadings& r) {
+  return c.sector_inflation + c.sector_unpolarized * r.unpolarized_share + c.sector_clipped * r.clipped_share;
+}
+
+bool reads_unreadable_sky(const MethodCalibration& c) {
+  return c.unpolarized_deg > 0 || c.sector_unpolarized > 0 || c.sector_clipped > 0;
+}
+
+const char* gate_field(Gate g) {
+  switch (g) {
+    case Gate::residual: return "max_residual_deg";
+    case Gate::model_misfit: return "max_model_misfit";
+    case Gate::window: return "min_window_min";
+    case Gate::unpolarized: return "max_unpolarized_share";
+    case Gate::clipped: return "max_clipped_share";
+    case Gate::ring_anisotropy: return "max_ring_anisotropy";
+    case Gate::none: break;
+  }
+  return "";
+}
+
+bool gate_set(Gate g, const MethodCalibration& c) {
+  switch (g) {
+    case Gate::residual: return std::isfinite(c.max_residual_deg);
+    case Gate::model_misfit: return std::isfinite(c.max_model_misfit);
+    case Gate::window: return c.min_window_min > 0;
+    case Gate::unpolarized: return std::isfinite(c.max_unpolarized_share);
+    case Gate::clipped: return std::isfinite(c.max_clipped_share);
+    case Gate::ring_anisotropy: return std::isfinite(c.max_ring_anisotropy);
+    case Gate::none: break;
+  }
+  return false;
+}
+
+bool gate_declines(Gate g, const MethodCalibration& c, const CalibrationReadings& r) {
+  switch (g) {
+    case Gate::residual: return r.residual_deg > c.max_residual_deg;
+    case Gate::model_misfit: return r.model_misfit > c.max_model_misfit;
+    case Gate::window: return r.window_min < c.min_window_min;
+    case Gate::unpolarized: return r.unpolarized_share > c.max_unpolarized_share;
+    case Gate::clipped: return r.clipped_share > c.max_clipped_share;
+    case Gate::ring_anisotropy: return r.ring_anisotropy > c.max_ring_anisotropy;
+    case Gate::none: break;
+  }
+  return false;
+}
+
+Gate first_declining_gate(const MethodCalibration& c, const CalibrationReadings& r, bool cloud_gate) {
+  for (const Gate g : {Gate::residual, Gate::model_misfit, Gate::window, Gate::unpolarized, Gate::clipped,
+                       Gate::ring_anisotropy}) {
+    if (g == Gate::unpolarized && !cloud_gate) continue;
+    if (gate_declines(g, c, r)) return g;
+  }
+  return Gate::none;
+}
+
+bool within_uncertainty_bound(double cone95_deg, double max_cone95_deg) {
+  return !std::isfinite(max_cone95_deg) || !(cone95_deg > max_cone95_deg);
+}
+
+std::pair<double, double> wilson_interval95(double hits, double n) {
+  if (!(n > 0)) return {std::nan(""), std::nan("")};
+  constexpr double z = 1.959963984540054;  // the normal distribution's 97.5 % quantile
+  const double p = hits / n, z2n = z * z / n;
+  const double centre = (p + 0.5 * z2n) / (1.0 + z2n);
+  const double half = z / (1.0 + z2n) * std::sqrt(p * (1.0 - p) / n + 0.25 * z2n / n);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+bool answers_agree(double angle_deg, double cone95_a_deg, double cone95_b_deg) {
+  return angle_deg <= kAutoAgreeScale * std::hypot(cone95_a_deg, cone95_b_deg);
+}
+
+AutoChoice auto_choice(std::span<const AutoCandidate> answers,
+                       const std::function<double(std::size_t, std::size_t)>& angle_deg) {
+  AutoChoice out;
+  const std::size_t n = answers.size();
+  if (n == 0) return out;
+  const auto agree = [&](std::size_t a, std::size_t b) {
+    return a == b || answers_agree(angle_deg(a, b), answers[a].cone95_deg, answers[b].cone95_deg);
+  };
+  std::size_t best = 0;
+  for (std::size_t a = 0; a < n; ++a) {
+    std::size_t count = 0;
+    for (std::size_t b = 0; b < n; ++b) count += agree(a, b) ? 1 : 0;
+    if (a == 0 || count > best || (count == best && answers[a].cone95_deg < answers[out.centre].cone95_deg)) {
+      out.centre = a;
+      best = count;
+    }
+  }
+  for (std::size_t b = 0; b < n; ++b) (agree(out.centre, b) ? out.members : out.dissent).push_back(b);
+  // A dissenting method that is as sure as the group and outvotes it cannot be told apart: the
+  // data do not decide.
+  out.decided = out.members.size() > out.dissent.size() || n == 1;
+  out.sharpest = out.members.front();
+  for (const std::size_t b : out.members) {
+    if (answers[b].sigma_deg < answers[out.sharpest].sigma_deg) out.sharpest = b;
+    if (!out.alone && answers[b].answers_alone) out.alone = b;
+  }
+  out.chosen = out.alone ? *out.alone : out.sharpest;
+  out.mean = !out.alone && out.members.size() > 1;
+  return out;
+}
+
+Eigen::Vector2d inverse_variance_mean(std::span<const Eigen::Vector2d> offsets, std::span<const double> sigmas) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double weights = 0;
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    const double w = 1.0 / std::max(sigmas[i] * sigmas[i], 1e-12);
+    sum += w * offsets[i];
+    weights += w;
+  }
+  return sum / weights;
 }
 
 double pixel_angle_deg(const camera::Camera& camera) {
@@ -245,8 +406,8 @@ double pixel_angle_deg(const camera::Camera& camera) {
 }
 
 void apply_uncertainty_bound(PoleEstimate& e, double max_cone95_deg) {
-  if (!e.valid || !std::isfinite(max_cone95_deg)) return;
-  if (e.cone95_deg > max_cone95_deg) {
+  if (!e.valid) return;
+  if (!within_uncertainty_bound(e.cone95_deg, max_cone95_deg)) {
     e.valid = false;
     e.why_invalid = "uncertainty above the bound: 95 % cone " + deg_text(e.cone95_deg) + " > " +
                     deg_text(max_cone95_deg) + " (σ bearing " + deg_text(e.sigma_bearing_deg) +

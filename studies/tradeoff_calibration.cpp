@@ -69,20 +69,6 @@ struct Draw {
   std::uint64_t seed = 0;
 };
 
-// The 95 % Wilson score interval of a share observed as `hits` of `n`: what the coverage of a
-// method with few answers can say. 23 answers all inside their cones (coverage 1) are consistent
-// with a true coverage of 0.86-1; a band of 90-98 % read off the point alone would call them
-// over-covering. Wilson's interval, unlike the normal approximation, stays inside [0, 1] and is not
-// empty at hits = n (E. B. Wilson, J. Am. Stat. Assoc. 22, 209 (1927)).
-std::pair<double, double> wilson_interval95(int hits, int n) {
-  if (n <= 0) return {std::nan(""), std::nan("")};
-  constexpr double z = 1.959963984540054;  // the normal distribution's 97.5 % quantile
-  const double nn = n, p = hits / nn, z2n = z * z / nn;
-  const double centre = (p + 0.5 * z2n) / (1.0 + z2n);
-  const double half = z / (1.0 + z2n) * std::sqrt(p * (1.0 - p) / nn + 0.25 * z2n / nn);
-  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
-}
-
 double sun_elevation_deg(const sky::Site& site, double unix_s) {
   return sky::sun_position(site, sky::Instant{unix_s}).elevation / kDeg;
 }
@@ -485,8 +471,8 @@ void study_calibration(const StudyOptions& o) {
         .set("lie_rate", valid ? static_cast<double>(lies) / valid : std::nan(""))
         .set("inside_cone", inside)
         .set("coverage", valid ? static_cast<double>(inside) / valid : std::nan(""))
-        .set("coverage_low95", wilson_interval95(inside, valid).first)
-        .set("coverage_high95", wilson_interval95(inside, valid).second)
+        .set("coverage_low95", skypole::wilson_interval95(inside, valid).first)
+        .set("coverage_high95", skypole::wilson_interval95(inside, valid).second)
         .set("median_error_deg", quantile(errors, 0.5))
         .set("p95_error_deg", quantile(errors, 0.95))
         .set("max_error_deg", quantile(errors, 1.0));
