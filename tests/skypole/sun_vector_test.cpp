@@ -250,8 +250,14 @@ TEST_CASE("sun_dolp measures how far the sky departs from Rayleigh's law, beyond
         ss += v * v;
       }
     const double scale = added / std::sqrt(ss / static_cast<double>(sky.pixels()));
+    // The sky borrows the stack's DoLP (sky_images.h FrameImages): frame 0 is replaced by a noisy copy.
+    std::vector<float> noisy0 = sky.dolp[0];
     for (std::size_t i = 0; i < sky.pixels(); ++i)
-      sky.dolp[0][i] = static_cast<float>(static_cast<double>(sky.dolp[0][i]) + scale * field[i]);
+      noisy0[i] = static_cast<float>(static_cast<double>(noisy0[i]) + scale * field[i]);
+    skypole::FrameImages frames;
+    frames.push_back(noisy0);
+    for (std::size_t k = 1; k < sky.frames(); ++k) frames.push_back(sky.dolp[k]);
+    sky.dolp = frames;
     const skypole::RayleighFits f = skypole::fit_rayleigh_law(sky, clear, false);
     REQUIRE(f.suns[0]);
     std::cout << "  shared noise of rms " << added << ": DoLP residual " << f.rms[0] << ", misfit "
