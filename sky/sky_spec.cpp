@@ -25,7 +25,7 @@ std::string choices_text(const std::vector<std::string>& legal) {
 
 void check_range(const std::string& field, double v, const SkyKey& k) {
   if (!(v >= k.lo && v <= k.hi)) {
-    bad(field, spec_number(v) + " is outside [" + spec_number(k.lo) + ", " + spec_number(k.hi) + "]" +
+    spec_error(field, spec_number(v) + " is outside [" + spec_number(k.lo) + ", " + spec_number(k.hi) + "]" +
                    (k.range_note.empty() ? "" : " (" + k.range_note + ")"));
   }
 }
@@ -46,7 +46,7 @@ void check_keys(const std::vector<SkyKey>& keys, const std::string& prefix, cons
       for (double x : *a) check_range(field, x, k);
     if (const std::string* c = std::get_if<std::string>(&v); c && k.kind == SkyKey::Kind::choice) {
       if (std::find(k.legal.begin(), k.legal.end(), *c) == k.legal.end())
-        bad(field, "\"" + *c + "\" is unknown (expected " + choices_text(k.legal) + ")");
+        spec_error(field, "\"" + *c + "\" is unknown (expected " + choices_text(k.legal) + ")");
     }
   }
 }
