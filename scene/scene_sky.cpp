@@ -4,6 +4,7 @@
 // cannot say (Preetham's turbidity range). A key another model takes is an error at the key that
 // names the model(s) it belongs to; a key no model takes is an unknown key.
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -32,7 +33,8 @@ void read_keys(Fields& f, const std::vector<sky::SkyKey>& keys, sky::SkySpec& s)
     switch (k.kind) {
       case Kind::boolean: v = f.boolean(k.name, std::get<bool>(k.get(s))); break;
       case Kind::integer:
-        v = f.integer(k.name, std::get<long long>(k.get(s)), static_cast<long long>(k.lo), static_cast<long long>(k.hi));
+        v = f.integer(k.name, std::get<long long>(k.get(s)), static_cast<long long>(k.lo),
+                       k.hi >= 9.2e18 ? std::numeric_limits<long long>::max() : static_cast<long long>(k.hi));
         break;
       case Kind::number:
         if (k.optional) {
