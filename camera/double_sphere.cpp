@@ -1,5 +1,7 @@
 // Double sphere projection and its closed-form unprojection (Usenko et al. 2018).
 #include "camera/double_sphere.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -102,6 +104,20 @@ std::vector<std::pair<std::string, double>> DoubleSphereLens::parameters() const
   p.emplace_back("xi", xi_);
   p.emplace_back("alpha", alpha_);
   return p;
+}
+
+LensModel double_sphere_lens_model() {
+  LensModel m;
+  m.name = "double_sphere";
+  m.description = "Usenko et al.'s double sphere (xi alpha)";
+  m.fields = {LensField::coefficients};
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    if (s.coefficients.size() != 2)
+      detail::lens_fail("coefficients: double_sphere needs 2 (xi alpha), got " + std::to_string(s.coefficients.size()));
+    return std::make_shared<DoubleSphereLens>(detail::pinhole_intrinsics(s), s.coefficients[0], s.coefficients[1],
+                                              detail::half_fov(s, true));
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

@@ -1,5 +1,7 @@
 // EUCM projection and its closed-form unprojection (eucm.h).
 #include "camera/eucm.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,6 +88,19 @@ std::vector<std::pair<std::string, double>> EucmLens::parameters() const {
   p.emplace_back("alpha", alpha_);
   p.emplace_back("beta", beta_);
   return p;
+}
+
+LensModel eucm_lens_model() {
+  LensModel m;
+  m.name = "eucm";
+  m.description = "the enhanced unified camera model (alpha beta)";
+  m.fields = {LensField::coefficients};
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    detail::need_coefficients(s, 2, "alpha beta");
+    return std::make_shared<EucmLens>(detail::pinhole_intrinsics(s), s.coefficients[0], s.coefficients[1],
+                                      detail::half_fov(s, true));
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

@@ -1,5 +1,7 @@
 // Kannala–Brandt (OpenCV fisheye) forward map and its safeguarded-Newton inverse.
 #include "camera/kannala_brandt.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
 
 #include <cmath>
 #include <functional>
@@ -120,6 +122,23 @@ std::vector<std::pair<std::string, double>> KannalaBrandtLens::parameters() cons
     p.emplace_back(key, coef_[i]);
   }
   return p;
+}
+
+LensModel kannala_brandt_lens_model() {
+  LensModel m;
+  m.name = "kannala_brandt";
+  m.description = "θ_d = θ(1 + k1θ² + k2θ⁴ + k3θ⁶ + k4θ⁸) (OpenCV fisheye, COLMAP OPENCV_FISHEYE)";
+  m.fields = {LensField::coefficients, LensField::clamp_fov_to_monotone};
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    if (s.coefficients.size() != 4)
+      detail::lens_fail("coefficients: kannala_brandt needs 4 (k1 k2 k3 k4), got " + std::to_string(s.coefficients.size()));
+    return std::make_shared<KannalaBrandtLens>(
+        detail::pinhole_intrinsics(s),
+        std::array<double, 4>{s.coefficients[0], s.coefficients[1], s.coefficients[2], s.coefficients[3]},
+        detail::half_fov(s, true),
+        s.clamp_fov_to_monotone ? KannalaBrandtLens::OnTurnover::clamp_fov : KannalaBrandtLens::OnTurnover::reject);
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

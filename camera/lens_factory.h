@@ -1,6 +1,6 @@
 // Builds any lens model from a plain description, so the scene loader needs no model-specific
-// code. Every check happens here (pbrt's Create habit): the models' constructors only see
-// checked values, and an error names the offending field.
+// code. Every check happens here and in the model's entry (lens_registry.h; pbrt's Create habit):
+// the models' constructors only see checked values, and an error names the offending field.
 #pragma once
 
 #include <memory>
@@ -15,8 +15,8 @@
 namespace skypol::camera {
 
 struct LensSpec {
-  // perspective | stereographic | equidistant | equisolid | orthographic | kannala_brandt |
-  // double_sphere | ocam | tabulated | thin_prism_fisheye | mei | eucm
+  // A registered model (lens_list.h): perspective | stereographic | equidistant | equisolid |
+  // orthographic | kannala_brandt | double_sphere | ocam | tabulated | thin_prism_fisheye | mei | eucm
   std::string model;
   int width = 0, height = 0;  // sensor pixels; required except for ocam (from the file)
   // Scale: fx [fy defaults to fx] in pixels, or focal_mm with pitch_um (not both).
@@ -41,7 +41,7 @@ struct LensSpec {
 // does not use ("coefficients: not used by model equidistant").
 std::shared_ptr<const Lens> make_lens(const LensSpec& spec);
 
-// The legal values of LensSpec::model.
+// The legal values of LensSpec::model: the registered models' names (lens_registry.h), in order.
 const std::vector<std::string_view>& lens_model_names();
 
 }  // namespace skypol::camera

@@ -1,5 +1,8 @@
 // Mei's unified model (cv::omnidir): closed-form projection, Newton undistortion, closed-form lift.
 #include "camera/mei_lens.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
+#include <array>
 
 #include <cmath>
 #include <numbers>
@@ -136,6 +139,20 @@ std::vector<std::pair<std::string, double>> MeiLens::parameters() const {
   const char* names[] = {"k1", "k2", "p1", "p2"};
   for (std::size_t i = 0; i < dist_.size(); ++i) p.emplace_back(names[i], dist_[i]);
   return p;
+}
+
+LensModel mei_lens_model() {
+  LensModel m;
+  m.name = "mei";
+  m.description = "Mei's unified model, cv::omnidir (xi k1 k2 p1 p2, skew)";
+  m.fields = {LensField::coefficients, LensField::skew};
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    detail::need_coefficients(s, 5, "xi k1 k2 p1 p2");
+    const auto& c = s.coefficients;
+    return std::make_shared<MeiLens>(detail::pinhole_intrinsics(s), s.skew.value_or(0.0), c[0],
+                                     std::array<double, 4>{c[1], c[2], c[3], c[4]}, detail::half_fov(s, true));
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

@@ -1,5 +1,8 @@
 // OCamCalib (Scaramuzza) model: loader, closed-form ray, exact projection by bracketed Newton.
 #include "camera/ocam_lens.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
+#include <utility>
 
 #include <algorithm>
 #include <cmath>
@@ -271,6 +274,30 @@ std::vector<std::pair<std::string, double>> OCamLens::parameters() const {
                          {"fov_deg", 2 * theta_max_ * 180 / std::numbers::pi}})
     p.emplace_back(name, v);
   return p;
+}
+
+LensModel ocam_lens_model() {
+  LensModel m;
+  m.name = "ocam";
+  m.description = "Scaramuzza's OCamCalib polynomial, read from its calib_results.txt";
+  m.fields = {LensField::ocamcalib_path};
+  m.size_from_file = true;
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    for (auto [given, field] : {std::pair{s.fx.has_value(), "fx"}, {s.fy.has_value(), "fy"}, {s.cx.has_value(), "cx"},
+                                {s.cy.has_value(), "cy"}, {s.focal_mm.has_value(), "focal_mm"},
+                                {s.pitch_um.has_value(), "pitch_um"}})
+      if (given) detail::lens_fail(std::string(field) + ": not used by model ocam (the calibration file sets it)");
+    if (s.ocamcalib_path.empty() && s.ocamcalib_text.empty()) detail::lens_fail("ocamcalib_path is required for model ocam");
+    const OCamModel om = s.ocamcalib_text.empty()
+                             ? load_ocamcalib(s.ocamcalib_path)
+                             : parse_ocamcalib(s.ocamcalib_text, s.ocamcalib_path.empty() ? "calib_results.txt" : s.ocamcalib_path);
+    if (s.width != 0 && s.width != om.width)
+      detail::lens_fail("width " + std::to_string(s.width) + " differs from the calibration's " + std::to_string(om.width));
+    if (s.height != 0 && s.height != om.height)
+      detail::lens_fail("height " + std::to_string(s.height) + " differs from the calibration's " + std::to_string(om.height));
+    return std::make_shared<OCamLens>(om, detail::half_fov(s, false));
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

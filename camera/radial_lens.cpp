@@ -1,5 +1,7 @@
 // The five ideal radial mappings (Sun et al. 2019 eq. 7) with their closed-form inverses.
 #include "camera/radial_lens.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
 
 #include <algorithm>
 #include <array>
@@ -119,5 +121,31 @@ void RadialLens::ray_row(double y, double x0, std::size_t n, double* dx, double*
 std::shared_ptr<const Lens> RadialLens::rescaled(double s) const {
   return std::make_shared<RadialLens>(mapping_, detail::rescale_intrinsics(k_, s), theta_max_);
 }
+
+// The five ideal mappings' entries (lens_registry.h): fx (or focal_mm with pitch_um), the principal
+// point and fov_deg; the fisheye ones image a hemisphere unless told otherwise.
+namespace {
+
+LensModel radial_lens_model(const char* name, const char* description, bool hemisphere) {
+  LensModel m;
+  m.name = name;
+  m.description = description;
+  m.radial = true;
+  m.hemisphere_default = hemisphere;
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    return std::make_shared<RadialLens>(parse_mapping(s.model), detail::pinhole_intrinsics(s), detail::half_fov(s, true));
+  };
+  return m;
+}
+
+}  // namespace
+
+LensModel perspective_lens_model() { return radial_lens_model("perspective", "r = f tan θ (the pinhole)", false); }
+LensModel stereographic_lens_model() {
+  return radial_lens_model("stereographic", "r = 2f tan(θ/2)", true);
+}
+LensModel equidistant_lens_model() { return radial_lens_model("equidistant", "r = f θ (the common fisheye)", true); }
+LensModel equisolid_lens_model() { return radial_lens_model("equisolid", "r = 2f sin(θ/2) (equal area)", true); }
+LensModel orthographic_lens_model() { return radial_lens_model("orthographic", "r = f sin θ", true); }
 
 }  // namespace skypol::camera

@@ -1,5 +1,7 @@
 // Fritsch–Carlson monotone cubic interpolation of a lens' image height curve, both ways.
 #include "camera/tabulated_lens.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -150,6 +152,41 @@ std::vector<std::pair<std::string, double>> TabulatedLens::parameters() const {
     p.emplace_back(height_key, t_.height[i]);
   }
   return p;
+}
+
+LensModel tabulated_lens_model() {
+  LensModel m;
+  m.name = "tabulated";
+  m.description = "a lens maker's table of image height (mm) against field angle (deg), pitch_um to pixels";
+  m.fields = {LensField::table};
+  m.pitch_converts_mm = true;
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    if (s.fx.has_value() || s.fy.has_value()) detail::lens_fail("fx/fy: not used by model " + s.model);
+    if (s.focal_mm.has_value()) detail::lens_fail("focal_mm: not used by model " + s.model);
+    if (s.table.empty()) detail::lens_fail("table: tabulated needs (field angle deg, image height mm) rows");
+    if (!s.pitch_um) detail::lens_fail("pitch_um is required for model tabulated");
+    LensSpec px = s;  // reuse the pinhole checks with 1 mm of image height = 1/pitch pixels
+    px.focal_mm = 1.0;
+    Intrinsics k = detail::pinhole_intrinsics(px);
+    HeightTable t = height_table_from_deg_mm(s.table);
+    const double tmax = detail::half_fov(s, false);
+    if (tmax > 0) {
+      if (t.theta.empty() || tmax > t.theta.back() * (1 + 1e-12))
+        detail::lens_fail("fov_deg " + detail::lens_number(*s.fov_deg) + " exceeds the table's last field angle");
+      const TabulatedLens full(k, t);  // checks the table; then cut it at tmax
+      const double h = full.height(tmax);
+      HeightTable cut;
+      for (std::size_t i = 0; i < t.theta.size() && t.theta[i] < tmax; ++i) {
+        cut.theta.push_back(t.theta[i]);
+        cut.height.push_back(t.height[i]);
+      }
+      cut.theta.push_back(tmax);
+      cut.height.push_back(h);
+      t = cut;
+    }
+    return std::make_shared<TabulatedLens>(k, t);
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

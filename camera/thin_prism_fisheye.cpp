@@ -1,5 +1,9 @@
 // THIN_PRISM_FISHEYE: closed-form projection, Newton inverse (thin_prism_fisheye.h).
 #include "camera/thin_prism_fisheye.h"
+#include "camera/detail/lens_checks.h"
+#include "camera/lens_registry.h"
+#include <algorithm>
+#include <array>
 
 #include <cmath>
 #include <numbers>
@@ -112,6 +116,20 @@ std::vector<std::pair<std::string, double>> ThinPrismFisheyeLens::parameters() c
   const char* names[] = {"k1", "k2", "p1", "p2", "k3", "k4", "sx1", "sy1"};
   for (std::size_t i = 0; i < c_.size(); ++i) p.emplace_back(names[i], c_[i]);
   return p;
+}
+
+LensModel thin_prism_fisheye_lens_model() {
+  LensModel m;
+  m.name = "thin_prism_fisheye";
+  m.description = "COLMAP's THIN_PRISM_FISHEYE (k1 k2 p1 p2 k3 k4 sx1 sy1)";
+  m.fields = {LensField::coefficients};
+  m.make = [](const LensSpec& s) -> std::shared_ptr<const Lens> {
+    detail::need_coefficients(s, 8, "k1 k2 p1 p2 k3 k4 sx1 sy1");
+    std::array<double, 8> c{};
+    std::copy(s.coefficients.begin(), s.coefficients.end(), c.begin());
+    return std::make_shared<ThinPrismFisheyeLens>(detail::pinhole_intrinsics(s), c, detail::half_fov(s, true));
+  };
+  return m;
 }
 
 }  // namespace skypol::camera

@@ -40,6 +40,8 @@ std::string render_one(const RenderArgs& a) {
   std::vector<scene::Override> overrides;
   for (const std::string& s : a.set) overrides.push_back(scene::parse_override(s));
   const scene::Scene scene = scene::load_scene(a.scene, overrides);
+  if (!a.quiet)
+    for (const std::string& n : scene.notes) std::fprintf(stderr, "note: %s\n", n.c_str());
   const std::string out = output_path(a, scene);
   const render::RenderReport r = render::render_scene(scene, out, make_progress(a.quiet));
   if (!a.quiet) {

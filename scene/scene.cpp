@@ -175,6 +175,7 @@ Scene scene_from_source(const SceneSource& source) {
   Scene scene;
   scene.file = file_name;
   scene.text = source.text;
+  scene.notes = source.notes;
   Fields top(source.root, file_name, "");
 
   std::optional<Fields> site = top.table("site");
@@ -216,18 +217,7 @@ Scene scene_from_source(const SceneSource& source) {
     if (scene.render.bands.empty()) r->fail("bands", "needs at least one band name");
     r->finish();
   }
-  if (scene.sky.model == "vrte") {
-    // Every band needs a wavelength, and Bodhaine's Rayleigh depth a site it is defined for.
-    try {
-      (void)sky::band_wavelengths_nm(scene.sky, scene.render.bands);
-    } catch (const std::invalid_argument& e) {
-      const std::string m = e.what();
-      sky_table->fail("wavelengths_nm", m.substr(m.find(':') + 2));
-    }
-    if (scene.site.height_m < -500 || scene.site.height_m > 10000) {
-      sky_table->fail("model", "vrte: the site's height_m must be in [-500, 10000] m (Bodhaine's Rayleigh depth)");
-    }
-  }
+  if (sky_table) check_sky_for_scene(*sky_table, scene);
 
   if (std::optional<Fields> sensor = top.table("sensor")) {
     scene.sensor = read_sensor(*sensor, scene.camera);

@@ -79,6 +79,7 @@ struct Scene {
   OccluderSpec occluders;
   RenderSpec render;
   OutputSpec output;
+  std::vector<std::string> notes;      // SceneSource::notes: what loading dropped (for stderr)
 };
 
 // Throws SceneError (missing file, TOML syntax, wrong type, unknown key, value out of range).
@@ -91,6 +92,9 @@ Scene scene_from_source(const SceneSource& source);
 CameraSpec read_camera(Fields& camera_table);
 CameraSpec parse_camera(const std::string& toml_text, const std::string& file_name);
 sky::SkySpec read_sky(Fields& sky_table);
+// What the sky's model asks of the rest of the scene (its bands, its site: sky::validate_for_scene),
+// as a SceneError at the [sky] key the check names.
+void check_sky_for_scene(const Fields& sky_table, const Scene& scene);
 SensorSpec read_sensor(Fields& sensor_table, const CameraSpec& camera);
 OccluderSpec read_occluders(Fields& occluders_table);
 // The [output] section (scene_output.cpp); `stem` names the default path out/<stem>.exr. A lossy

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "camera/lens_registry.h"
 #include "camera/orientation.h"
 #include "camera/presets.h"
 #include "scene/scene.h"
@@ -214,9 +215,10 @@ camera::LensSpec read_lens(Fields& c) {
   std::vector<std::string> models;
   for (std::string_view m : camera::lens_model_names()) models.emplace_back(m);
   l.model = c.choice("model", l.model.empty() ? "equidistant" : l.model, models);
+  const camera::LensModel& entry = *camera::find_lens_model(l.model);
   l.width = static_cast<int>(c.integer("width", l.width, 1, 65536));
   l.height = static_cast<int>(c.integer("height", l.height, 1, 65536));
-  if (l.model != "ocam") {
+  if (!entry.size_from_file) {
     if (!l.width) c.fail("width", "missing (image width in pixels)");
     if (!l.height) c.fail("height", "missing (image height in pixels)");
   }
@@ -225,7 +227,7 @@ camera::LensSpec read_lens(Fields& c) {
   if (std::optional<double> v = c.optional_number("fx", 1e-3, 1e7)) {
     l.fx = v;
     if (!c.has("focal_mm")) l.focal_mm.reset();
-    if (!c.has("pitch_um") && l.model != "tabulated") l.pitch_um.reset();
+    if (!c.has("pitch_um") && !entry.pitch_converts_mm) l.pitch_um.reset();
   }
   if (std::optional<double> v = c.optional_number("fy", 1e-3, 1e7)) l.fy = v;
   if (std::optional<double> v = c.optional_number("skew", -1e7, 1e7)) l.skew = v;
@@ -235,11 +237,9 @@ camera::LensSpec read_lens(Fields& c) {
   }
   // The ideal fisheye mappings image a hemisphere unless told otherwise; the other models need
   // their field of view said (a perspective lens cannot reach 90°).
-  const bool hemisphere_default = l.model == "stereographic" || l.model == "equidistant" ||
-                                  l.model == "equisolid" || l.model == "orthographic";
   if (std::optional<double> v = c.optional_number("fov_deg", 1, 360)) {
     l.fov_deg = v;
-  } else if (!l.fov_deg && hemisphere_default) {
+  } else if (!l.fov_deg && entry.hemisphere_default) {
     l.fov_deg = 180;
   }
   if (c.has("coefficients")) l.coefficients = c.numbers("coefficients", {});
@@ -311,8 +311,8 @@ CameraSpec read_camera(Fields& c) {
   } else {
     if (c.has("image_circle_px")) c.fail("image_circle_px", "only with a calibration (a lens model takes fov_deg)");
     s.lens = read_lens(c);
-    if (l.model == "ocam") {
-      // Keep the file's text with the camera: a stack stays estimable when the file moves.
+    if (!l.ocamcalib_path.empty()) {
+      // Keep the calibration file's text with the camera: a stack stays estimable when the file moves.
       camera::Calibration cal;
       cal.format = "ocamcalib";
       cal.name = l.ocamcalib_path;

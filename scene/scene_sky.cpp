@@ -1,94 +1,124 @@
-// The [sky] section (and [sky.clouds], [sky.aerosol]): which polarization pattern and radiance,
-// checked here key by key and then by sky::validate for the combinations (Preetham's turbidity
-// range). Keys of one model given to another are errors at the key.
+// The [sky] section (and its sub-tables, [sky.clouds], [sky.aerosol]): the model is looked up in
+// the sky models' registry (sky/sky_model_registry.h), which says which keys it takes, their kind
+// and range; they are read here with file:line errors, then sky::validate checks what a range
+// cannot say (Preetham's turbidity range). A key another model takes is an error at the key that
+// names the model(s) it belongs to; a key no model takes is an unknown key.
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "sky/aerosol_types.h"
+#include "sky/sky_model_registry.h"
 
 #include "scene/scene.h"
 
 namespace skypol::scene {
+namespace {
+
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    out += std::string(i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + "\"" + names[i] + "\"";
+  }
+  return out;
+}
+
+// Reads `keys` from table f into s: every key is read (so that finish() can suggest it for a
+// typo), a given one is stored, and then each given key's refuse() is asked.
+void read_keys(Fields& f, const std::vector<sky::SkyKey>& keys, sky::SkySpec& s) {
+  using Kind = sky::SkyKey::Kind;
+  for (const sky::SkyKey& k : keys) {
+    const bool given = f.has(k.name);
+    sky::SkyValue v;
+    switch (k.kind) {
+      case Kind::boolean: v = f.boolean(k.name, std::get<bool>(k.get(s))); break;
+      case Kind::integer:
+        v = f.integer(k.name, std::get<long long>(k.get(s)), static_cast<long long>(k.lo),
+                       k.hi >= 9.2e18 ? std::numeric_limits<long long>::max() : static_cast<long long>(k.hi));
+        break;
+      case Kind::number:
+        if (k.optional) {
+          if (std::optional<double> d = f.optional_number(k.name, k.lo, k.hi)) v = *d;
+        } else {
+          v = f.number(k.name, std::get<double>(k.get(s)), k.lo, k.hi);
+        }
+        break;
+      case Kind::choice: v = f.choice(k.name, std::get<std::string>(k.get(s)), k.legal); break;
+      case Kind::numbers: {
+        const std::vector<double> a = f.numbers(k.name, std::get<std::vector<double>>(k.get(s)));
+        for (double x : a) {
+          if (!(x >= k.lo && x <= k.hi)) {
+            char range[96];
+            std::snprintf(range, sizeof range, "each value must be in [%g, %g]", k.lo, k.hi);
+            f.fail(k.name, range + (k.range_note.empty() ? std::string() : " (" + k.range_note + ")"));
+          }
+        }
+        v = a;
+        break;
+      }
+      case Kind::table:
+        if (std::optional<Fields> t = f.table(k.name)) {
+          if (k.on_table) k.on_table(s);
+          read_keys(*t, k.keys, s);
+          t->finish();
+        }
+        continue;
+    }
+    if (given) k.set(s, v);
+  }
+  for (const sky::SkyKey& k : keys) {
+    if (!f.has(k.name) || !k.refuse) continue;
+    if (const std::string why = k.refuse(s); !why.empty()) f.fail(k.name, why);
+  }
+}
+
+[[noreturn]] void fail_sky_field(const Fields& sky_table, const std::string& message) {
+  // "sky.<key>: …" or "sky.<table>.<key>: …" (sky/spec_errors.h); anything else lands on model.
+  const std::string prefix = "sky.";
+  const std::size_t colon = message.find(": ");
+  if (message.rfind(prefix, 0) != 0 || colon == std::string::npos) sky_table.fail("model", message);
+  const std::string field = message.substr(prefix.size(), colon - prefix.size());
+  const std::string rest = message.substr(colon + 2);
+  const std::size_t dot = field.find('.');
+  if (dot != std::string::npos) {
+    if (const toml::table* sub = sky_table.raw().get_as<toml::table>(field.substr(0, dot))) {
+      Fields(*sub, sky_table.file(), sky_table.dotted(field.substr(0, dot))).fail(field.substr(dot + 1), rest);
+    }
+  }
+  sky_table.fail(field.substr(0, dot), rest);
+}
+
+}  // namespace
 
 sky::SkySpec read_sky(Fields& f) {
   sky::SkySpec s;
-  s.model = f.choice("model", s.model, {"rayleigh", "berry", "vrte"});
-  const bool vrte = s.model == "vrte";
-  for (const char* key : {"max_dolp", "max_dolp_from_turbidity", "intensity", "turbidity"}) {
-    if (vrte && f.has(key)) f.fail(key, "not used by model \"vrte\" (its radiance and degree come from the solver)");
-  }
-  for (const char* key : {"ground_albedo", "streams", "grid", "wavelengths_nm", "aerosol"}) {
-    if (!vrte && f.has(key)) f.fail(key, "used only by model \"vrte\"");
-  }
-  s.ground_albedo = f.number("ground_albedo", s.ground_albedo, 0, 1);
-  s.streams = static_cast<int>(f.integer("streams", s.streams, 4, 64));
-  s.grid = static_cast<int>(f.integer("grid", s.grid, 8, 129));
-  s.wavelengths_nm = f.numbers("wavelengths_nm", {});
-  for (double w : s.wavelengths_nm) {
-    if (!(w >= 200 && w <= 4000)) f.fail("wavelengths_nm", "each wavelength must be in [200, 4000] nm");
-  }
-  if (std::optional<Fields> a = f.table("aerosol")) {
-    sky::AerosolSpec& ae = s.aerosol;
-    std::vector<std::string> types = sky::aerosol_type_names();
-    types.insert(types.end(), {"custom", "none"});
-    ae.type = a->choice("type", ae.type, types);
-    const bool custom = ae.type == "custom";
-    for (const char* key : {"median_radius_um", "geometric_std", "refractive_real", "refractive_imag"}) {
-      if (!custom && a->has(key)) a->fail(key, "used only by type \"custom\" (a named type has its own)");
-    }
-    ae.median_radius_um = a->number("median_radius_um", ae.median_radius_um, 1e-4, 20);
-    ae.geometric_std = a->number("geometric_std", ae.geometric_std, 1.000001, 3);
-    ae.refractive_real = a->number("refractive_real", ae.refractive_real, 1, 3);
-    ae.refractive_imag = a->number("refractive_imag", ae.refractive_imag, 0, 2);
-    ae.tau_550 = a->number("tau_550", ae.tau_550, 0, 10);
-    ae.angstrom = a->optional_number("angstrom", -1, 4);
-    ae.ssa = a->optional_number("ssa", 0, 1);
-    ae.angle_nodes = static_cast<int>(a->integer("angle_nodes", ae.angle_nodes, 16, 4096));
-    a->finish();
-    try {
-      sky::validate(ae);
-    } catch (const std::invalid_argument& e) {
-      const std::string m = e.what();
-      const std::string prefix = "sky.aerosol.";
-      std::string key = "type";
-      if (m.rfind(prefix, 0) == 0) key = m.substr(prefix.size(), m.find(':') - prefix.size());
-      a->fail(key, m.substr(m.find(':') + 2));
-    }
-  }
-  s.max_dolp_from_turbidity = f.boolean("max_dolp_from_turbidity", false);
-  if (s.max_dolp_from_turbidity && f.has("max_dolp")) {
-    f.fail("max_dolp", "give either 'max_dolp' or 'max_dolp_from_turbidity = true', not both");
-  }
-  s.max_dolp = f.number("max_dolp", s.max_dolp, 0, 1);
-  s.separation_deg = f.number("separation_deg", s.separation_deg, 0, 45);
-  if (s.model != "berry" && f.has("separation_deg")) f.fail("separation_deg", "used only by model \"berry\"");
-  s.berry_normalisation = f.choice("berry_normalisation", s.berry_normalisation, {"split_rayleigh", "opensky"});
-  if (s.model != "berry" && f.has("berry_normalisation")) {
-    f.fail("berry_normalisation", "used only by model \"berry\"");
-  }
-  s.intensity = f.choice("intensity", s.intensity, {"uniform", "rayleigh", "preetham"});
-  s.turbidity = f.number("turbidity", s.turbidity, 1, 64);
-  if (s.intensity == "preetham" && (s.turbidity < 2 || s.turbidity > 10)) {
-    f.fail(f.has("turbidity") ? "turbidity" : "intensity", "Preetham's model is fitted for turbidity in [2, 10]");
-  }
-  s.sun_disc = f.boolean("sun_disc", false);
-  s.sun_disc_radiance = f.number("sun_disc_radiance", s.sun_disc_radiance, 0, 1e12);
-  if (std::optional<Fields> c = f.table("clouds")) {
-    s.clouds.coverage = c->number("coverage", 0.3, 0, 1);
-    s.clouds.seed = static_cast<std::uint64_t>(c->integer("seed", 0, 0, std::numeric_limits<long long>::max()));
-    s.clouds.scale_deg = c->number("scale_deg", s.clouds.scale_deg, 1, 90);
-    s.clouds.softness = c->number("softness", s.clouds.softness, 1e-6, 1);
-    s.clouds.brightness = c->number("brightness", s.clouds.brightness, 1, 1e6);
-    c->finish();
+  s.model = f.choice("model", s.model, sky::sky_model_names());
+  const sky::SkyModelEntry& model = sky::sky_model_entry(s.model);
+  read_keys(f, model.keys, s);
+  read_keys(f, sky::every_model_keys(), s);
+  for (const auto& [key, node] : f.raw()) {
+    const std::string name(key.str());
+    if (name == "model" || sky::find_key(model, name)) continue;
+    const std::vector<std::string> owners = sky::models_taking(name);
+    if (owners.empty()) continue;  // no model takes it: finish() reports it as unknown
+    f.fail(name, "not used by model \"" + s.model + "\" (used only by model" + (owners.size() > 1 ? "s " : " ") +
+                     quoted_list(owners) + ")");
   }
   f.finish();
   try {
     sky::validate(s);
   } catch (const std::invalid_argument& e) {
-    f.fail("model", e.what());  // every field was range-checked above; this is a safety net
+    fail_sky_field(f, e.what());
   }
   return s;
+}
+
+void check_sky_for_scene(const Fields& sky_table, const Scene& scene) {
+  try {
+    sky::validate_for_scene(scene.sky, scene.render.bands, site_atmosphere(scene));
+  } catch (const std::invalid_argument& e) {
+    fail_sky_field(sky_table, e.what());
+  }
 }
 
 std::unique_ptr<sky::SkyModel> build_sky(const sky::SkySpec& spec) { return sky::make_sky(spec); }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "scene/scene_error.h"
+#include "sky/sky_model_registry.h"
 
 namespace skypol::scene {
 namespace {
@@ -124,6 +125,64 @@ toml::table override_table(const Override& o) {
   return parse_toml(text, o.origin);  // a syntax error is reported with toml++'s message and column
 }
 
+// `--set KEY=` (an empty value): the key is removed from the merged table, whatever wrote it.
+void unset_key(toml::table& root, const Override& o) {
+  toml::table* t = &root;
+  std::string_view rest = o.key;
+  while (true) {
+    const std::size_t dot = rest.find('.');
+    const std::string part(rest.substr(0, dot));
+    if (dot == std::string_view::npos) {
+      if (!t->contains(part)) break;
+      t->erase(part);
+      return;
+    }
+    t = t->get_as<toml::table>(part);
+    if (!t) break;
+    rest.remove_prefix(dot + 1);
+  }
+  throw SceneError(FileLoc{o.origin, 1, 1}, "key '" + o.key + "': nothing to unset (no file and no earlier override sets it)");
+}
+
+// Every dotted key an override's table writes ("sky.clouds.coverage"), tables included.
+void written_keys(const toml::table& t, const std::string& path, std::vector<std::string>& out) {
+  for (auto&& [k, v] : t) {
+    const std::string dotted = path.empty() ? std::string(k.str()) : path + "." + std::string(k.str());
+    out.push_back(dotted);
+    if (const toml::table* sub = v.as_table()) written_keys(*sub, dotted, out);
+  }
+}
+
+// Switching a scene's sky model by an override ("this scene, under that sky"): the [sky] keys
+// that the files wrote for the old model and that the new one does not take are dropped, each
+// with a note. A key an override wrote, or one no model takes, stays, so that the scene language
+// reports it (docs/scenes.md, "--set").
+void drop_other_models_keys(toml::table& root, const std::vector<std::string>& overridden,
+                            const std::string& switched_by, std::vector<std::string>& notes) {
+  toml::table* sky_table = root.get_as<toml::table>("sky");
+  if (!sky_table) return;
+  const std::optional<std::string> model = sky_table->get("model") ? sky_table->get("model")->value<std::string>() : std::nullopt;
+  const sky::SkyModelEntry* entry = model ? sky::find_sky_model(*model) : nullptr;
+  if (!entry) return;  // an unknown model: the scene language reports it
+  std::vector<std::string> drop;
+  for (auto&& [k, v] : *sky_table) {
+    const std::string key(k.str());
+    if (key == "model" || sky::find_key(*entry, key) || sky::models_taking(key).empty()) continue;
+    const std::string dotted = "sky." + key;
+    const bool by_override = std::any_of(overridden.begin(), overridden.end(), [&](const std::string& w) {
+      return w == dotted || w.rfind(dotted + ".", 0) == 0;
+    });
+    if (by_override) continue;
+    const toml::source_region& src = v.source();
+    std::string where = src.path && !src.path->empty() ? *src.path : std::string();
+    if (src.begin.line) where += ":" + std::to_string(src.begin.line);
+    notes.push_back("sky." + key + (where.empty() ? "" : " (" + where + ")") + " dropped: model \"" + *model +
+                    "\" (" + switched_by + ") does not take it");
+    drop.push_back(key);
+  }
+  for (const std::string& key : drop) sky_table->erase(key);
+}
+
 SceneSource assemble(const std::string& own_text, const std::string& file, const std::vector<Override>& overrides) {
   Resolver resolver;
   std::error_code ec;
@@ -132,13 +191,22 @@ SceneSource assemble(const std::string& own_text, const std::string& file, const
   SceneSource source;
   source.file = file;
   source.root = resolver.resolve(parse_toml(own_text, file), file);
+  std::vector<std::string> overridden;
+  std::string model_switched_by;  // the last override that set sky.model
   for (const Override& o : overrides) {
+    if (o.value.empty()) {
+      unset_key(source.root, o);
+      continue;
+    }
     toml::table patch = override_table(o);
     if (patch.contains("include")) {
       throw SceneError(FileLoc{o.origin, 1, 1}, "key 'include': includes belong in a scene file, not in an override");
     }
+    written_keys(patch, "", overridden);
+    if (patch.at_path("sky.model")) model_switched_by = "set by " + o.origin + " " + o.key + "=" + o.value;
     merge_into(source.root, std::move(patch));
   }
+  if (!model_switched_by.empty()) drop_other_models_keys(source.root, overridden, model_switched_by, source.notes);
   if (resolver.read.empty() && overrides.empty()) {
     source.text = own_text;
   } else {
@@ -149,6 +217,7 @@ SceneSource assemble(const std::string& own_text, const std::string& file, const
       std::replace_if(line.begin(), line.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
       head += "\n#   " + line;
     }
+    for (const std::string& n : source.notes) head += "\n#   " + n;
     source.text = head + "\n" + to_toml(source.root);
   }
   return source;

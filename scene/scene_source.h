@@ -21,7 +21,10 @@
 namespace skypol::scene {
 
 // One `--set dotted.key=value` override. `value` is TOML ("3", "\"piz\"", "[1, 2]",
-// "2022-09-23"), or a bare word ("equisolid", "out/x.exr") taken as a string. Errors in the
+// "2022-09-23"), or a bare word ("equisolid", "out/x.exr") taken as a string; empty, the key is
+// removed (whichever file wrote it; a key nothing wrote is an error). An override that sets
+// sky.model drops the [sky] keys the files wrote that the new model does not take
+// (SceneSource::notes says which); keys an override wrote are never dropped. Errors in the
 // value (and in what the loader makes of it) are reported at `origin`, line 1, with the column
 // counted in "key=value".
 struct Override {
@@ -40,6 +43,9 @@ struct SceneSource {
   // names the files and overrides it came from. Either way it parses back to the same scene.
   std::string text;
   toml::table root;   // merged; the `include` key is consumed
+  // What the merge did that the user did not write: [sky] keys dropped because an override
+  // switched the sky model to one that does not take them. One line each, for stderr.
+  std::vector<std::string> notes;
 };
 
 // Throws SceneError: file missing, TOML syntax, bad include (missing, wrong type, cycle), bad

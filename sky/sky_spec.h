@@ -1,14 +1,18 @@
 // Building a sky model from plain values, so that the scene loader needs to know no model class.
-// Only what a spec asks for is built: the default spec gives a bare RayleighSky. Wrappers, inner
-// to outer: IntensitySky (radiance ≠ rayleigh), CloudySky (coverage > 0), SunDiscSky (sun_disc).
+// Each model is an entry of the registry (sky_model_registry.h) that owns its keys, their checks
+// and how it is built; this file holds the values and the calls every caller makes. Only what a
+// spec asks for is built: the default spec gives a bare RayleighSky. Wrappers, inner to outer:
+// IntensitySky (grey models, radiance ≠ rayleigh), CloudySky (coverage > 0), SunDiscSky (sun_disc).
 // The grey models (rayleigh, berry) are one model for every band; the VRTE sky ("vrte") is one
 // model per band (make_band_skies), each from its own optical depths and cached table.
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "sky/aerosol_types.h"
@@ -17,9 +21,14 @@
 
 namespace skypol::sky {
 
-// Field names are the TOML keys of a scene's [sky] table (docs/scenes.md); errors use them.
+// One checked value of a [sky] key (sky_model_registry.h, SkyKey); monostate: not given.
+using SkyValue = std::variant<std::monostate, bool, long long, double, std::string, std::vector<double>>;
+
+// Field names are the TOML keys of a scene's [sky] table (docs/scenes.md); errors use them. The
+// named fields are the shipped models' keys (their entries, rayleigh_model.cpp, berry_model.cpp,
+// vrte_model.cpp, say which model takes which); a model added later may keep its keys in params.
 struct SkySpec {
-  std::string model = "rayleigh";         // "rayleigh" | "berry" (grey) | "vrte" (per band, multiple scattering)
+  std::string model = "rayleigh";         // a registered model: "rayleigh" | "berry" (grey) | "vrte" (per band)
   double max_dolp = 1.0;                  // Pmax ∈ [0, 1]
   bool max_dolp_from_turbidity = false;   // true: Pmax = exp(−(T − 0.6)/4) (depolarization.h)
   double separation_deg = 20.0;           // berry: neutral points' distance from the sun, [0, 45]
@@ -35,6 +44,8 @@ struct SkySpec {
   int streams = 12;                       // accuracy: Gauss nodes per hemisphere (vrte_table.h), [4, 64]
   int grid = 25;                          // table nodes in zenith angle for μ and μ0, [8, 129]
   std::vector<double> wavelengths_nm;     // one per band, nm; empty: band_wavelength_nm(band name)
+  // The values of keys that a model declares without a named field above (SkyKey::param), by key.
+  std::map<std::string, SkyValue, std::less<>> params;
 };
 
 // What the Rayleigh optical depth needs from the site (optical_depth.h). A scene without a pressure
@@ -70,10 +81,16 @@ std::vector<double> band_wavelengths_nm(const SkySpec& spec, std::span<const std
 std::filesystem::path default_table_cache_dir();
 
 // Throws std::invalid_argument whose message starts with the field ("sky.intensity: …"),
-// states the value and lists the legal values or range. make_sky calls it first.
+// states the value and lists the legal values or range: an unknown model, a key of the model (or
+// one every model takes) out of its range, then the model's own checks. make_sky calls it first.
 void validate(const SkySpec& spec);
 
-// Grey models only (rayleigh, berry): throws for "vrte", which needs bands (make_band_skies).
+// What the scene around a sky must satisfy for its model (vrte: a wavelength for every band, a site
+// height Bodhaine's depth is defined for); throws std::invalid_argument("sky.<field>: …").
+void validate_for_scene(const SkySpec& spec, std::span<const std::string> bands, const SiteAtmosphere& site);
+
+// Models that are one model for every band (rayleigh, berry): throws for one per band ("vrte"),
+// which needs bands (make_band_skies).
 std::unique_ptr<SkyModel> make_sky(const SkySpec& spec);
 
 // The Pmax a spec yields (max_dolp, or the turbidity form when asked).

@@ -126,6 +126,7 @@ TEST_CASE("bad fields: std::invalid_argument naming the field and the legal valu
   s.max_dolp = std::nan("");
   CHECK_THAT(error_of(s), Catch::StartsWith("sky.max_dolp"));
   s = {};
+  s.model = "berry";  // berry's key: the only model that takes it
   s.separation_deg = 50;
   CHECK_THAT(error_of(s), Catch::StartsWith("sky.separation_deg") && Catch::Contains("[0, 45]"));
   s = {};
