@@ -122,6 +122,7 @@ const std::vector<SkyKey>& every_model_keys() {
     k.push_back(boolean_key("sun_disc", [](SkySpec& s) -> bool& { return s.sun_disc; }));
     k.push_back(number_key("sun_disc_radiance", 0, 1e12, [](SkySpec& s) -> double& { return s.sun_disc_radiance; }));
     SkyKey seed = key_of("seed", SkyKey::Kind::integer, 0, static_cast<double>(std::numeric_limits<long long>::max()));
+    seed.scene_range_only = true;
     seed.get = [](const SkySpec& s) { return SkyValue(static_cast<long long>(s.clouds.seed)); };
     seed.set = [](SkySpec& s, const SkyValue& v) { s.clouds.seed = static_cast<std::uint64_t>(std::get<long long>(v)); };
     SkyKey clouds = table_key(

@@ -37,6 +37,9 @@ struct SkyKey {
   std::string range_note;              // said after the range in validate's message ("nm, Bodhaine's formula")
   std::vector<std::string> legal;      // choice: the legal values
   bool optional = false;               // number: no default (the value stays unset unless given)
+  // The range binds what a scene writes, not a spec built in code: the clouds' seed is any 64-bit
+  // value there (a study draws it), while TOML integers stop at 2^63 − 1.
+  bool scene_range_only = false;
   std::function<SkyValue(const SkySpec&)> get;            // the value in a spec (its default in SkySpec{})
   std::function<void(SkySpec&, const SkyValue&)> set;     // stores a value of the key's kind
   // When the key is given: why it may not be, given the rest of the spec ("" when it may).

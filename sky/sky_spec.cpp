@@ -40,6 +40,7 @@ void check_keys(const std::vector<SkyKey>& keys, const std::string& prefix, cons
       continue;
     }
     if (k.refuse && !k.refuse(s).empty()) continue;  // not in use with the rest of the spec
+    if (k.scene_range_only) continue;
     const SkyValue v = k.get(s);
     if (const double* d = std::get_if<double>(&v)) check_range(field, *d, k);
     if (const long long* i = std::get_if<long long>(&v)) check_range(field, static_cast<double>(*i), k);
