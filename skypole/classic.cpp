@@ -131,24 +131,35 @@ void check_params(const ClassicParams& params) {
                                 std::to_string(params.threshold));
 }
 
+// Step 1 on a prepared sky (the parameters checked): each frame's DoLP filtered.
+ClassicPrepared filtered_sky(SkyImages sky, const ClassicParams& params) {
+  ClassicPrepared out;
+  out.sky = std::move(sky);
+  out.radius_px = params.filter_radius_px.value_or(default_filter_radius_px(out.sky.width, out.sky.height));
+  out.filtered = filter_all(out.sky, out.radius_px);
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 }  // namespace
 
 ClassicPrepared prepare_classic(const stack::Stack& stack, const ClassicParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
-  check_params(params);
-  ClassicPrepared out = prepare_classic(prepare_sky_images(stack, params.input, classic_min_frames(params), "classic"), params);
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  check_params(params);  // before the stack is read: a bad parameter is named first
+  ClassicPrepared out =
+      filtered_sky(prepare_sky_images(stack, params.input, classic_min_frames(params), "classic"), params);
+  out.seconds = seconds_since(t_start);
   return out;
 }
 
 ClassicPrepared prepare_classic(SkyImages sky, const ClassicParams& params) {
   const auto t_start = std::chrono::steady_clock::now();
   check_params(params);
-  ClassicPrepared out;
-  out.sky = std::move(sky);
-  out.radius_px = params.filter_radius_px.value_or(default_filter_radius_px(out.sky.width, out.sky.height));
-  out.filtered = filter_all(out.sky, out.radius_px);
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  ClassicPrepared out = filtered_sky(std::move(sky), params);
+  out.seconds = seconds_since(t_start);
   return out;
 }
 
