@@ -407,6 +407,30 @@ void demosaic_color_bilinear_into(const DofpSensor& s, std::span<const std::uint
   color_into(s, raw, mode, out);
 }
 
+int demosaic_reach(const DofpSensor& s) { return s.color_filter == ColorFilter::none ? 1 : 3; }
+
+// A separable erosion: along the rows, then down the columns.
+void erode_mask(std::vector<float>& mask, int w, int h, int reach) {
+  thread_local std::vector<std::uint8_t> rows;  // reused frame after frame
+  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  rows.assign(n, 1);
+  for (int y = 0; y < h; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    for (int x = 0; x < w; ++x) {
+      if (mask[row + x] > 0.0f) continue;
+      for (int k = std::max(0, x - reach); k <= std::min(w - 1, x + reach); ++k) rows[row + k] = 0;
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+    for (int k = std::max(0, y - reach); k <= std::min(h - 1, y + reach); ++k) {
+      const std::size_t other = static_cast<std::size_t>(k) * static_cast<std::size_t>(w);
+      for (int x = 0; x < w; ++x)
+        if (!rows[other + x]) mask[row + x] = 0.0f;
+    }
+  }
+}
+
 double clip_level_dn(const DofpSensor& s) {
   const double max_dn = std::ldexp(1.0, s.adc_bits) - 1;
   const double well_dn = s.gain_dn_per_e * (s.full_well_e - 4 * s.read_noise_e) + s.black_level_dn;
@@ -418,7 +442,7 @@ std::vector<std::uint8_t> clipped_pixels(const DofpSensor& s, std::span<const st
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   if (raw.size() != n) throw std::invalid_argument("raw mosaic must hold width*height values");
   const double level = clip_level_dn(s);
-  const int reach = s.color_filter == ColorFilter::none ? 1 : 3;  // demosaic_core's period − 1
+  const int reach = demosaic_reach(s);
   // A separable dilation: along the rows, then down the columns.
   std::vector<std::uint8_t> rows(n, 0), out(n, 0);
   for_each_row(h, [&](int r) {

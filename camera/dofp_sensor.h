@@ -147,13 +147,21 @@ void demosaic_color_bilinear_into(const DofpSensor& sensor, std::span<const std:
 std::array<StokesPlanes, 3> demosaic_color_bilinear(const DofpSensor& sensor, std::span<const float> raw,
                                                     Demosaic mode = Demosaic::nominal);
 
+// How far (pixels, along a row or a column) the bilinear demosaic reaches for the raw values of one
+// output pixel: 1 on a mono sensor's 2-pixel lattices, 3 on a colour one's 4-pixel lattices (the
+// lattice's period − 1). An output pixel within this distance of a raw pixel mixes that pixel in.
+int demosaic_reach(const DofpSensor& sensor);
+// Sets to 0 every pixel of `mask` (width × height, row-major) within `reach` pixels along a row
+// and a column (a square) of one whose value is ≤ 0: the pixels whose demosaic, with that reach,
+// mixed in a pixel that sees no sky.
+void erode_mask(std::vector<float>& mask, int width, int height, int reach);
+
 // The raw value (DN) at and above which a pixel reads as clipped: its full well (the read noise,
 // added after the well clips, scatters clipped readings about it, so 4 of its σ below) or the
 // ADC's top, whichever is lower.
 double clip_level_dn(const DofpSensor& sensor);
 // Per pixel of the demosaic's output, 1 where it read a clipped raw value: a raw pixel at or above
-// clip_level_dn within its footprint (±1 pixel on a mono sensor's 2-pixel lattices, ±3 on a colour
-// one's 4-pixel lattices). There the Stokes vector is wrong, and not by noise: a clipped polarizer
+// clip_level_dn within its footprint (±demosaic_reach). There the Stokes vector is wrong, and not by noise: a clipped polarizer
 // reads less than it saw, so DoLP falls and AoLP turns away from that polarizer's angle, alike in
 // every frame, which no jackknife sees (docs/benchmarks-calibration.md measures how far it moves
 // a heading).

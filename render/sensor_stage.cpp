@@ -45,23 +45,6 @@ void finish_band(const std::string& band, const std::vector<float>* mask, camera
   frame.channel("S2." + band) = std::move(measured.s2);
 }
 
-void erode_mask(std::vector<float>& mask, int w, int h) {
-  thread_local std::vector<float> before;  // reused frame after frame, as the raw buffer
-  before.assign(mask.begin(), mask.end());
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      bool whole = true;
-      for (int dy = -1; dy <= 1 && whole; ++dy) {
-        for (int dx = -1; dx <= 1 && whole; ++dx) {
-          const int yy = std::clamp(y + dy, 0, h - 1), xx = std::clamp(x + dx, 0, w - 1);
-          whole = before[static_cast<std::size_t>(yy * w + xx)] > 0.0f;
-        }
-      }
-      if (!whole) mask[static_cast<std::size_t>(y * w + x)] = 0.0f;
-    }
-  }
-}
-
 }  // namespace
 
 std::vector<std::string> sensor_inputs(const std::vector<std::string>& bands) {
@@ -141,10 +124,11 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
   const camera::DofpSensor& d = sensor.auto_exposure ? metered : sensor.dofp;
   frame.exposure_us = d.exposure_us;
   frame.zero_outside = 0;  // noise and the eroded mask change pixels outside the circle too
-  // The bilinear demosaic reads each pixel's 3×3 neighbourhood: a pixel next to one that sees no
-  // sky mixes in darkness, so it is masked too (the mask is eroded by one pixel).
+  // The bilinear demosaic reads a pixel's neighbours up to camera::demosaic_reach away (1 on a mono
+  // sensor, 3 on a colour one): a pixel that near one that sees no sky mixes in darkness, so it is
+  // masked too (the mask is eroded by the reach).
   std::vector<float>* mask = frame.has("mask") ? &frame.channel("mask") : nullptr;
-  if (mask) erode_mask(*mask, frame.width, frame.height);
+  if (mask) camera::erode_mask(*mask, frame.width, frame.height, camera::demosaic_reach(d));
   // One raw buffer per thread, reused frame after frame (a stack's frames share one size).
   thread_local std::vector<std::uint16_t> raw;
   if (d.color_filter == camera::ColorFilter::none) {

@@ -3,8 +3,8 @@
 // full well, ADC) and back through the demosaic, as a real polarization camera's pipeline gives
 // them. DoLP and AoLP are then recomputed from the measured Stokes with the usual rules
 // (stack/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
-// zeros, as without a sensor; so do their 8 neighbours, whose demosaic mixed in those dark pixels
-// (the mask is eroded by one pixel). A pixel whose demosaic read a clipped raw value is masked too,
+// zeros, as without a sensor; so do the pixels whose demosaic mixed in those dark pixels (the mask
+// is eroded by camera::demosaic_reach: 1 pixel on a mono sensor, 3 on a colour one). A pixel whose demosaic read a clipped raw value is masked too,
 // its S0 kept; channel "clipped" is 1 on the sky pixels masked so (camera::clipped_pixels). Run
 // only when the scene has a [sensor] section.
 // Exposure: the sensor's fixed exposure_us, or with exposure = "auto" (SensorSpec::auto_exposure)

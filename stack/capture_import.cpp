@@ -99,25 +99,14 @@ std::vector<double> correction(const std::string& path, int width, int height, b
   return std::move(r.values);
 }
 
-// Pixels the lens images (a ray exists), eroded by one pixel as the sensor stage erodes its mask:
-// the bilinear demosaic mixes each pixel's neighbours.
-std::vector<float> lens_mask(const camera::Camera& cam) {
+// Pixels the lens images (a ray exists), eroded by the demosaic's reach as the sensor stage erodes
+// its mask: the bilinear demosaic mixes each pixel's neighbours (camera::demosaic_reach).
+std::vector<float> lens_mask(const camera::Camera& cam, const camera::DofpSensor& sensor) {
   const int w = cam.width(), h = cam.height();
-  std::vector<float> inside(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  std::vector<float> mask(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) inside[static_cast<std::size_t>(y) * w + x] = cam.ray(Eigen::Vector2d(x, y)) ? 1.0f : 0.0f;
-  std::vector<float> mask(inside.size(), 0.0f);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      bool whole = true;
-      for (int dy = -1; dy <= 1 && whole; ++dy)
-        for (int dx = -1; dx <= 1 && whole; ++dx) {
-          const int yy = std::clamp(y + dy, 0, h - 1), xx = std::clamp(x + dx, 0, w - 1);
-          whole = inside[static_cast<std::size_t>(yy) * w + xx] > 0.0f;
-        }
-      mask[static_cast<std::size_t>(y) * w + x] = whole ? 1.0f : 0.0f;
-    }
-  }
+    for (int x = 0; x < w; ++x) mask[static_cast<std::size_t>(y) * w + x] = cam.ray(Eigen::Vector2d(x, y)) ? 1.0f : 0.0f;
+  camera::erode_mask(mask, w, h, camera::demosaic_reach(sensor));
   return mask;
 }
 
@@ -261,7 +250,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
     raws.push_back(std::move(dn));
   }
 
-  const std::vector<float> mask = lens_mask(*cam);
+  const std::vector<float> mask = lens_mask(*cam, d);
   std::vector<std::string> channels;
   for (const std::string& b : bands) {
     for (const char* s : {"S0.", "S1.", "S2.", "DoLP.", "AoLP."}) channels.push_back(s + b);

@@ -353,11 +353,18 @@ TEST_CASE("clipped pixels: the demosaic's whole footprint of every raw value at 
     t.adc_bits = 12;
     if (colour) t.color_filter = ColorFilter::rggb_blocks;
     const int reach = colour ? 3 : 1;
+    CHECK(demosaic_reach(t) == reach);
     for (const auto& [r0, c0] : std::vector<std::pair<int, int>>{{9, 11}, {0, 0}, {19, 23}, {1, 22}}) {
       INFO((colour ? "colour" : "mono") << " raw pixel (" << r0 << ", " << c0 << ")");
       std::vector<std::uint16_t> raw(24 * 20, 100), hit = raw;
       hit[static_cast<std::size_t>(r0 * 24 + c0)] = 4095;
       const auto flagged = clipped_pixels(t, hit);
+      // The sensor stage's mask erosion masks the same box around a pixel that sees no sky: every
+      // output pixel whose demosaic reads it.
+      std::vector<float> mask(24 * 20, 1.0f);
+      mask[static_cast<std::size_t>(r0 * 24 + c0)] = 0.0f;
+      erode_mask(mask, 24, 20, demosaic_reach(t));
+      for (std::size_t i = 0; i < mask.size(); ++i) REQUIRE(mask[i] == (flagged[i] ? 0.0f : 1.0f));
       const auto stokes = [&](const std::vector<std::uint16_t>& m) {
         return colour ? demosaic_color_bilinear(t, m) : std::array<StokesPlanes, 3>{demosaic_bilinear(t, m)};
       };
