@@ -20,9 +20,10 @@ stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::In
   if (setup.sun_options.pressure_hpa > 0) air.pressure_hpa = setup.sun_options.pressure_hpa;
   air.altitude_m = setup.site.height_m;
   air.latitude_deg = setup.site.latitude_deg;
-  const std::string bands[] = {setup.band};
-  const sky::BandSkies skies = sky::make_band_skies(setup.sky, bands, air, sky::default_table_cache_dir());
-  const sky::SkyModel* sky_model = skies.skies.front().get();
+  if (setup.bands.empty()) throw std::invalid_argument("record_stack: no band");
+  const sky::BandSkies skies = sky::make_band_skies(setup.sky, setup.bands, air, sky::default_table_cache_dir());
+  std::vector<const sky::SkyModel*> band_skies;
+  for (const auto& m : skies.skies) band_skies.push_back(m.get());
   auto cam = std::make_shared<camera::Camera>(
       setup.lens,
       camera::world_from_heading_tilt_roll(setup.heading_deg, setup.tilt_deg, setup.roll_deg));
@@ -35,15 +36,15 @@ stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::In
   scene.camera.roll_deg = setup.roll_deg;
 
   RenderOptions options;
-  options.bands = {setup.band};
+  options.bands = setup.bands;
   options.channels = {"S0", "S1", "S2", "DoLP", "AoLP", "mask"};
   const Renderer renderer(cam, options);
   stack::Stack stack;
   stack.camera = cam;
-  stack.bands = {setup.band};
+  stack.bands = setup.bands;
   for (const sky::Instant t : times) {
     const scene::Truth truth = scene::make_truth(scene, *cam, t);
-    stack::Frame f = renderer.render(*sky_model, truth.sun);
+    stack::Frame f = renderer.render(band_skies, truth.sun);
     f.truth = truth;
     stack.frames.push_back(std::move(f));
   }
@@ -52,8 +53,6 @@ stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::In
 
 stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor,
                             const std::optional<camera::AutoExposure>& auto_exposure) {
-  if (sensor.color_filter != camera::ColorFilter::none)
-    throw std::invalid_argument("through_sensor: colour sensors are not supported here");
   stack::Stack out;
   out.camera = ideal.camera;
   out.bands = ideal.bands;
@@ -70,10 +69,10 @@ stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor
   spec.auto_exposure = auto_exposure;
   const std::vector<std::uint8_t> sky =
       auto_exposure && ideal.camera ? sky_pixels(*ideal.camera) : std::vector<std::uint8_t>{};
-  const std::string& b = ideal.bands.front();
+  const std::vector<std::string>& bands = ideal.bands;
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
 
-  // apply_sensor erodes the mask by one pixel (the demosaic's reach), so the ideal mask goes in.
+  // apply_sensor erodes the mask by the demosaic's reach, so the ideal mask goes in.
   const std::vector<float>& mask = ideal.frames.front().channel("mask");
 
   for (std::size_t i = 0; i < ideal.frames.size(); ++i) {
@@ -82,12 +81,14 @@ stack::Stack through_sensor(const stack::Stack& ideal, camera::DofpSensor sensor
     g.width = w;
     g.height = h;
     g.truth = f.truth;
-    for (const std::string& c : sensor_inputs({b})) g.channels[c] = f.channel(c);
-    g.channels["DoLP." + b].assign(n, 0.0f);
-    g.channels["AoLP." + b].assign(n, 0.0f);
+    for (const std::string& c : sensor_inputs(bands)) g.channels[c] = f.channel(c);
+    for (const std::string& b : bands) {
+      g.channels["DoLP." + b].assign(n, 0.0f);
+      g.channels["AoLP." + b].assign(n, 0.0f);
+    }
     g.channels["mask"] = mask;
-    apply_sensor(spec, {b}, i, g, false, sky);
-    for (const std::string& c : sensor_inputs({b})) g.channels.erase(c);
+    apply_sensor(spec, bands, i, g, false, sky);
+    for (const std::string& c : sensor_inputs(bands)) g.channels.erase(c);
     out.frames.push_back(std::move(g));
   }
   return out;

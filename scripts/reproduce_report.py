@@ -108,11 +108,14 @@ def vrte_section(r, g, add, fig):
         "lowers it at every wavelength, and flattens the spectrum, as its share of the scattering grows towards the "
         "red.\n")
     add(f"**Every estimator on the VRTE sky** (Fig. 3's protocol as above: {st['headings']} headings, "
-        f"{st['day_frames']} day frames, a {st['width']}×{st['height']} grid; the mono DoFP sensor exposed so the "
-        f"brightest sky (99.5th percentile of S0 = I/F {float(st['bright_s0']):.3f}) collects 80 % of the full well). "
-        "Mean absolute errors over the headings, in degrees:\n")
+        f"{st['day_frames']} day frames, a {st['width']}×{st['height']} grid; bands R, G and B, each its own table; "
+        f"through the paper's colour DoFP sensor ({st['sensor']}), auto-exposed as the camera meters: the "
+        f"{float(st['meter_percentile']):g}th percentile of the sky's S0 at {100 * float(st['meter_target']):g} % of "
+        f"the full well, frame by frame, {float(st['exposure_min_us']) / 1000:.1f}–{float(st['exposure_max_us']) / 1000:.1f} ms; "
+        "the estimators read band B, as the paper did). auto combines the methods' answers with the site, "
+        "auto_site_free without it (`--site unknown`). Mean absolute errors over the headings, in degrees:\n")
     rows = []
-    for m in g["METHODS"]:
+    for m in g["METHODS"] + ["auto", "auto_site_free"]:
         cells = [m]
         for sensor in (False, True):
             k = ("day", sensor, int(st["day_frames"]), m)
@@ -363,7 +366,7 @@ def render(r, g):
         "per-pixel DoLP noise ≈ 1–2 %). Mean absolute errors over the headings, in degrees (valid = estimates "
         "that found a pole):\n")
     rows = []
-    for m in g["METHODS"]:
+    for m in g["METHODS"] + ["auto", "auto_site_free"]:
         cells = [m]
         for sensor in (False, True):
             k = ("day", sensor, int(st["day_frames"]), m)

@@ -51,6 +51,9 @@ PoleEstimate combine_estimates(const stack::Stack& stack, const InputOptions& in
 // Whether auto weighs `method`'s answer: a registered method whose entry says so and that needs no
 // site unless `site_usable`.
 bool used_by_auto(std::string_view method, bool site_usable);
+// The studies' label for auto's answer with the site withheld (InputOptions::use_site = false:
+// site-free, as `--site unknown`), beside "auto", which uses the site where the stack knows it.
+inline constexpr const char* kAutoSiteFree = "auto_site_free";
 // run_method, but for "auto" when `done` already holds an answer of every method auto weighs:
 // combine_estimates of them, running nothing again (`-m all`, evaluate, the studies).
 PoleEstimate run_or_combine(const stack::Stack& stack, std::string_view method, const InputOptions& input,

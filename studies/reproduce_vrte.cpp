@@ -7,7 +7,7 @@
 //   vrte_max_dolp.csv        maximum DoLP in the solar vertical against wavelength and τ(550),
 //                            sun at 30°
 //   vrte_protocol.csv        Fig. 3's protocol (reproduction_protocol.h) with every estimator on the
-//                            VRTE sky, noise-free and through the mono DoFP sensor
+//                            VRTE sky, noise-free and through the colour DoFP sensor, auto-exposed
 //   vrte_setup.csv           the numbers of the set-up, for the report
 // Tables come from sky::default_table_cache_dir() (the tests point SKYPOL_CACHE_DIR at a
 // temporary folder): a second run reads them.
@@ -16,7 +16,9 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <limits>
 #include <optional>
+#include <utility>
 #include <sstream>
 
 #include "camera/presets.h"
@@ -165,8 +167,7 @@ void max_dolp(const ReproduceOptions& o, const scene::Scene& scene) {
   write_text(o.out_dir, "vrte_max_dolp.csv", os.str());
 }
 
-void protocol(const ReproduceOptions& o, const scene::Scene& scene, const sky::SkySpec& spec_sky,
-              const sky::SkyModel& vrte) {
+void protocol(const ReproduceOptions& o, const scene::Scene& scene, const sky::SkySpec& spec_sky) {
   const double scale = o.small ? 1.0 / 16 : 0.25;
   const auto cam = scene::build_camera(scene.camera);
   studies::ProtocolSpec spec;
@@ -176,8 +177,11 @@ void protocol(const ReproduceOptions& o, const scene::Scene& scene, const sky::S
   spec.setup.tilt_deg = scene.camera.tilt_deg;
   spec.setup.roll_deg = scene.camera.roll_deg;
   spec.setup.sky = spec_sky;
-  spec.setup.sky.wavelengths_nm = {550};
+  // The paper's camera: the colour IMX250MYR (Lucid PHX050S-QC), each band its own VRTE table at
+  // the band's wavelength; the estimators read band B, as the paper did.
+  spec.setup.bands = {"R", "G", "B"};
   spec.methods = skypole::method_names();
+  spec.auto_site_free = true;
   const double t0 = scene.times.front().unix_seconds;
   for (int m = 0; m <= 240; m += 10) spec.window_times.push_back(sky::Instant{t0 + (3 + m / 60.0) * 3600.0});
   if (o.small) {
@@ -189,29 +193,20 @@ void protocol(const ReproduceOptions& o, const scene::Scene& scene, const sky::S
     spec.day_times = scene.times;
     spec.window_frames = {4, 7, 10, 13, 19, 25};
   }
-  // The sensor of the single-scattering protocol (reproduce_skypole.cpp), exposed for this sky:
-  // the brightest sky (the 99.5th percentile of S0 over the day's frames, away from the sun's disc,
-  // which this sky does not hold) at 80 % of the full well, one exposure for the whole day.
-  std::vector<double> s0;
-  for (const sky::Instant t : spec.day_times) {
-    const sky::Sun sun = sky::sun_position(scene.site, t, scene.sun_options);
-    for (double az = 0; az < 360; az += 5)
-      for (double el = 2; el <= 90; el += 4) {
-        const Eigen::Vector3d d = sky::enu_direction(az * kDeg, el * kDeg);
-        s0.push_back(vrte.stokes(d, horizontal_e0(d), sun).s0);
-      }
-  }
-  std::sort(s0.begin(), s0.end());
-  const double bright = s0[static_cast<std::size_t>(0.995 * static_cast<double>(s0.size() - 1))];
-  camera::DofpSensor d = camera::sensor_preset("sony_imx250mzr").dofp;
-  d.exposure_us = 1000;
-  d.electrons_per_radiance_s = 0.8 * d.full_well_e / (d.exposure_us * 1e-6) / bright;
-  spec.sensor = d;
+  // The colour DoFP sensor as the camera meters it (camera/dofp_sensor.h, AutoExposure: the 99.5th
+  // percentile of the sky's S0 at 80 % of the full well, frame by frame): the vrte sky's S0 is I/F,
+  // and no hand scaling is needed.
+  spec.sensor = camera::sensor_preset("lucid_phx050s_qc").dofp;
+  spec.auto_exposure = camera::AutoExposure{};
   spec.seed = 20220923;
   const auto t = std::chrono::steady_clock::now();
   const auto rows = studies::run_protocol(spec, o.progress);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   write_text(o.out_dir, "vrte_protocol.csv", studies::protocol_csv(rows));
+  std::pair<double, double> exposures{std::numeric_limits<double>::infinity(), 0};
+  for (const ProtocolRow& r : rows)
+    if (r.sensor && r.exposure_max_us > 0)
+      exposures = {std::min(exposures.first, r.exposure_min_us), std::max(exposures.second, r.exposure_max_us)};
 
   const sky::SiteAtmosphere air = scene::site_atmosphere(scene);
   const sky::LayerOptics optics =
@@ -230,8 +225,11 @@ void protocol(const ReproduceOptions& o, const scene::Scene& scene, const sky::S
      << "width," << spec.setup.lens->intrinsics().width << "\nheight," << spec.setup.lens->intrinsics().height << '\n'
      << "headings," << spec.headings_deg.size() << '\n'
      << "day_frames," << spec.day_times.size() << '\n'
-     << "bright_s0," << csv_num(bright) << '\n'
-     << "electrons_per_radiance_unit," << csv_num(d.electrons_per_radiance_s * d.exposure_us * 1e-6) << '\n'
+     << "sensor,lucid_phx050s_qc\n"
+     << "meter_percentile," << csv_num(spec.auto_exposure->percentile) << '\n'
+     << "meter_target," << csv_num(spec.auto_exposure->target) << '\n'
+     << "exposure_min_us," << csv_num(exposures.first) << '\n'
+     << "exposure_max_us," << csv_num(exposures.second) << '\n'
      << "protocol_seconds," << csv_num(seconds) << '\n';
   write_text(o.out_dir, "vrte_setup.csv", os.str());
 }
@@ -248,7 +246,7 @@ void reproduce_vrte(const ReproduceOptions& o) {
   max_dolp(o, scene);
   if (!o.quiet) std::fprintf(stderr, "vrte: pole, neutral points, max DoLP written; protocol (%s)...\n",
                              o.small ? "small" : "full");
-  protocol(o, scene, spec, *vrte);
+  protocol(o, scene, spec);
 }
 
 }  // namespace skypol::studies

@@ -1,6 +1,7 @@
 // The Fig. 3 heading sweep and the observation-window sweep (reproduction_protocol.h).
 #include "studies/reproduction_protocol.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -31,17 +32,30 @@ double span_min(const stack::Stack& s) {
   return (s.frames.back().truth.time.unix_seconds - s.frames.front().truth.time.unix_seconds) / 60.0;
 }
 
+// Each method once; auto (and its site-free row) from the answers already computed.
 void run_methods(const ProtocolSpec& spec, const stack::Stack& stack, const std::string& run,
                  bool sensor, double heading, std::vector<ProtocolRow>& rows) {
-  for (const std::string& m : spec.methods) {
+  std::vector<std::string> names = spec.methods;
+  if (spec.auto_site_free) names.push_back(skypole::kAutoSiteFree);
+  skypole::InputOptions site_free;
+  site_free.use_site = false;
+  std::vector<skypole::PoleEstimate> done;
+  for (const std::string& m : names) {
     ProtocolRow r;
     r.run = run;
     r.sensor = sensor;
     r.window_min = span_min(stack);
     r.frames = static_cast<int>(stack.frames.size());
     r.heading_deg = heading;
-    r.estimate = skypole::run_method(stack, m);
+    for (const stack::Frame& f : stack.frames)
+      if (sensor && f.exposure_us) {
+        r.exposure_min_us = r.exposure_min_us > 0 ? std::min(r.exposure_min_us, *f.exposure_us) : *f.exposure_us;
+        r.exposure_max_us = std::max(r.exposure_max_us, *f.exposure_us);
+      }
+    r.estimate = m == skypole::kAutoSiteFree ? skypole::combine_estimates(stack, site_free, done)
+                                             : skypole::run_or_combine(stack, m, {}, done);
     r.estimate.method = m;
+    done.push_back(r.estimate);
     if (r.estimate.valid) r.score = skypole::score(r.estimate, stack.frames.front().truth);
     rows.push_back(std::move(r));
   }
@@ -83,7 +97,7 @@ std::vector<ProtocolRow> run_protocol(
 std::string protocol_csv(const std::vector<ProtocolRow>& rows) {
   std::ostringstream os;
   os << "run,sensor,window_min,frames,heading_deg,method,valid,why_invalid,bearing_error_deg,"
-        "latitude_error_deg,angular_error_deg,residual_deg,seconds\n";
+        "latitude_error_deg,angular_error_deg,residual_deg,seconds,exposure_min_us,exposure_max_us\n";
   for (const ProtocolRow& r : rows) {
     const bool ok = r.estimate.valid && r.score.has_value();
     os << r.run << ',' << (r.sensor ? 1 : 0) << ',' << num(r.window_min) << ',' << r.frames << ','
@@ -96,7 +110,8 @@ std::string protocol_csv(const std::vector<ProtocolRow>& rows) {
     } else {
       os << ",,,";
     }
-    os << ',' << num(r.estimate.seconds) << '\n';
+    os << ',' << num(r.estimate.seconds) << ',' << (r.exposure_max_us > 0 ? num(r.exposure_min_us) : "") << ','
+       << (r.exposure_max_us > 0 ? num(r.exposure_max_us) : "") << '\n';
   }
   return os.str();
 }

@@ -22,7 +22,9 @@ namespace skypol::studies {
 struct ProtocolSpec {
   render::RecordingSetup setup;              // heading is overridden per row
   std::vector<double> headings_deg;
-  std::vector<std::string> methods;          // evaluate.h names
+  std::vector<std::string> methods;          // evaluate.h names ("auto" combines the others' answers)
+  // Also auto with the site withheld, as skypole::kAutoSiteFree rows (after the methods').
+  bool auto_site_free = false;
   std::vector<sky::Instant> day_times;       // the day: run noise-free and through the sensor
   std::vector<sky::Instant> window_times;    // windows: prefixes, through the sensor only
   std::vector<int> window_frames;            // prefix lengths (each ≥ 3, ≤ window_times.size())
@@ -38,6 +40,7 @@ struct ProtocolRow {
   double window_min = 0;    // last frame time − first frame time
   int frames = 0;
   double heading_deg = 0;
+  double exposure_min_us = 0, exposure_max_us = 0;  // through the sensor: its frames' exposures (0: none)
   skypole::PoleEstimate estimate;
   std::optional<skypole::Score> score;  // nullopt for an invalid estimate
 };
@@ -47,7 +50,8 @@ std::vector<ProtocolRow> run_protocol(
     const ProtocolSpec& spec, const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 // Columns: run,sensor,window_min,frames,heading_deg,method,valid,why_invalid,bearing_error_deg,
-// latitude_error_deg,angular_error_deg,residual_deg,seconds. Undefined values are empty fields.
+// latitude_error_deg,angular_error_deg,residual_deg,seconds,exposure_min_us,exposure_max_us. Undefined
+// values (and the exposures of a noise-free run) are empty fields.
 std::string protocol_csv(const std::vector<ProtocolRow>& rows);
 
 }  // namespace skypol::studies
