@@ -119,7 +119,7 @@ def load(paths, replace=()):
     if replace:
         # `--methods` re-runs: their (seed, method) rows replace the runs' (same seed and count: the
         # same scenes).
-        extra = [r for p in replace for r in csv.DictReader(open(p)) if r["method"] != "auto"]
+        extra = [r for p in replace for r in csv.DictReader(open(p)) if not r["method"].startswith("auto")]
         redo = {(r["seed"], r["method"]) for r in extra}
         rows = [r for r in rows if (r["seed"], r["method"]) not in redo] + extra
     rows.sort(key=lambda r: (int(r["seed"]), int(r["stack"])))
@@ -127,7 +127,7 @@ def load(paths, replace=()):
     by = {}
     for r in rows:
         m = r["method"]
-        if m == "auto":
+        if m not in sectors:  # auto's rows (with and without the site): combinations, not methods
             continue
         d = by.setdefault(m, {k: [] for k in ("stack", "sky", "valid", "err", "off", "seed", "sector_groups",
                                                "frame_groups", *JACKKNIFE_COLUMNS, *READING_COLUMNS)})

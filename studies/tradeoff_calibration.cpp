@@ -66,6 +66,7 @@ struct Draw {
   double cloud = 0;
   std::string sensor;  // none | mono | colour
   double exposure_us = 0, gain_factor = 1;
+  bool auto_exposure = false;  // the meter sets each frame's exposure (exposure_us is then unused)
   std::uint64_t seed = 0;
 };
 
@@ -79,16 +80,18 @@ double sun_elevation_deg(const sky::Site& site, double unix_s) {
 // whose tables the disk cache keeps). "realistic": the physically based sky in most scenes, its
 // atmosphere drawn from a climatology — every OPAC type, τ(550) log-uniform on 0.02–0.8 (73 % of
 // the draws below 0.3, as sun photometer networks see clear-sky loads), ground albedo uniform on
-// 0–0.35 — sites up to 80° from the equator and windows of 30 min to 12 h; its tables are solved
-// per scene and not cached (each atmosphere is new).
+// 0–0.35 — sites up to 80° from the equator and windows of 30 min to 12 h, and 60 % of its sensors
+// auto-exposed, as a camera left to meter sets itself; its tables are solved per scene and not
+// cached (each atmosphere is new).
 struct Population {
   double max_abs_latitude_deg, min_window_min, max_window_min;
   double rayleigh_share, berry_share;  // the rest is vrte
   double no_sensor_share, mono_share;  // the rest is colour
   bool climatology;
+  double auto_exposure_share;  // of the scenes with a sensor; 0: no draw (the mixed population's scenes stay as they were)
 };
-constexpr Population kMixed{70, 20, 660, 0.45, 0.25, 0.15, 0.65, false};
-constexpr Population kRealistic{80, 30, 720, 0.15, 0.15, 0.1, 0.45, true};
+constexpr Population kMixed{70, 20, 660, 0.45, 0.25, 0.15, 0.65, false, 0};
+constexpr Population kRealistic{80, 30, 720, 0.15, 0.15, 0.1, 0.45, true, 0.6};
 
 const Population& population_of(const std::string& name) {
   if (name == "mixed") return kMixed;
@@ -154,6 +157,7 @@ Draw draw_scene(std::mt19937_64& rng, int index, const Population& pop) {
     d.sensor = s < pop.no_sensor_share ? "none" : s < pop.no_sensor_share + pop.mono_share ? "mono" : "colour";
     d.exposure_us = 250 * std::exp(u(rng) * std::log(12.0));  // 0.25 … 3 ms
     d.gain_factor = std::exp((u(rng) - 0.5) * std::log(8.0));  // ×0.35 … ×2.8
+    if (pop.auto_exposure_share > 0) d.auto_exposure = u(rng) < pop.auto_exposure_share && d.sensor != "none";
     d.seed = rng();
     char buf[16];
     const std::time_t t = static_cast<std::time_t>(day0);
@@ -246,13 +250,17 @@ stack::Stack render_draw(const Draw& d, int binning, int noise_draw, const Popul
     // are random 64-bit numbers: no two draws of the population share a key in practice).
     sensor.dofp = paper_sensor(binning, d.exposure_us, d.seed + static_cast<std::uint64_t>(noise_draw) * 1000003ULL);
     sensor.dofp.gain_dn_per_e *= d.gain_factor;
-    // The vrte sky's S0 is I/F (≈ 0.01–1 sr⁻¹), not the grey models' unit (docs/scenes.md): expose
-    // it as the grey skies are, its brightest sky (99th percentile of frame 0's S0) at the
-    // radiance the sensor's preset puts at 70 % of the full well in 1 ms.
-    if (vrte) sensor.dofp.electrons_per_radiance_s /= bright_s0(stack.frames.front(), ro.bands.front());
+    // The vrte sky's S0 is I/F (≈ 0.01–1 sr⁻¹), not the grey models' unit (docs/scenes.md): at a
+    // fixed exposure it is exposed as the grey skies are, its brightest sky (99th percentile of
+    // frame 0's S0) at the radiance the sensor's preset puts at 70 % of the full well in 1 ms. An
+    // auto-exposed sensor needs no such scaling: the meter finds each frame's exposure (the sky
+    // above the camera's horizon, camera/dofp_sensor.h's AutoExposure defaults).
+    if (d.auto_exposure) sensor.auto_exposure = camera::AutoExposure{};
+    else if (vrte) sensor.dofp.electrons_per_radiance_s /= bright_s0(stack.frames.front(), ro.bands.front());
     if (colour) sensor.dofp.color_filter = camera::ColorFilter::rggb_blocks;
+    const std::vector<std::uint8_t> meter_sky = d.auto_exposure ? render::sky_pixels(*cam) : std::vector<std::uint8_t>{};
     tbb::parallel_for(std::size_t{0}, stack.frames.size(), [&](std::size_t i) {
-      render::apply_sensor(sensor, ro.bands, i, stack.frames[i], false);
+      render::apply_sensor(sensor, ro.bands, i, stack.frames[i], false, meter_sky);
     });
   }
   // S1 and S2 are not read by any method (DoLP and AoLP are); S0 is: the sky mask's saturated and
@@ -283,7 +291,7 @@ void study_calibration(const StudyOptions& o) {
   std::mt19937_64 rng(o.seed);
   Table rows({"stack", "seed", "latitude_deg", "longitude_deg", "date", "window_min", "step_min", "frames",
               "heading_deg", "tilt_deg", "lens", "sky", "max_dolp", "aerosol", "tau_550", "ground_albedo", "cloud",
-              "sensor", "exposure_us", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
+              "sensor", "exposure_us", "auto_exposure", "gain_factor", "binning", "pixel_deg", "method", "valid", "why_invalid", "angular_error_deg", "bearing_error_deg",
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
               "inside_cone", "lie", "residual_deg", "model_misfit", "sun_elevation_misfit_deg", "unpolarized_share", "clipped_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
               "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "frame_groups", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
@@ -297,18 +305,20 @@ void study_calibration(const StudyOptions& o) {
     double error = 0, ratio = 0;  // angular error; error / cone95
   };
   std::vector<Outcome> outcomes;
-  std::vector<std::string> methods = skypole::method_names();
-  if (!o.methods.empty()) {
-    // A subset, in the order given (checked by the command line), and auto over it (last, as the
-    // summaries expect).
-    methods = o.methods;
-    methods.push_back("auto");
-  }
+  // The methods (all, or a subset in the order given, checked by the command line), then auto over
+  // them twice: with the site where the stack knows it, and site-free (as `--site unknown`), last.
+  std::vector<std::string> methods = o.methods;
+  if (methods.empty())
+    for (const skypole::Method& m : skypole::methods()) methods.push_back(m.name);
+  methods.push_back("auto");
+  methods.push_back(skypole::kAutoSiteFree);
   skypole::InputOptions input;
   input.max_uncertainty_deg = o.max_uncertainty_deg;
   input.calibrated = !o.uncalibrated;
   input.cloud_gate = !o.no_cloud_gate;
   input.sky_mask = !o.no_sky_mask;
+  skypole::InputOptions site_free = input;
+  site_free.use_site = false;
   const auto chosen = [&](int k) { return o.scenes.empty() || std::ranges::find(o.scenes, k) != o.scenes.end(); };
   const std::filesystem::path partial = std::filesystem::path(o.out_dir) / "calibration.partial.csv";
   int scenes_run = 0;
@@ -334,8 +344,9 @@ void study_calibration(const StudyOptions& o) {
     for (std::size_t m = 0; m < methods.size(); ++m) {
       skypole::PoleEstimate e;
       try {
-        e = methods[m] == "auto" ? skypole::combine_estimates(stack, input, done)
-                                 : skypole::run_method(stack, methods[m], input);
+        e = methods[m] == "auto"          ? skypole::combine_estimates(stack, input, done)
+            : methods[m] == skypole::kAutoSiteFree ? skypole::combine_estimates(stack, site_free, done)
+                                          : skypole::run_method(stack, methods[m], input);
       } catch (const std::invalid_argument& err) {
         e = skypole::PoleEstimate{};
         e.method = methods[m];
@@ -362,7 +373,8 @@ void study_calibration(const StudyOptions& o) {
           .set("pixel_deg", pixel_deg)
           .set("cloud", d.cloud)
           .set("sensor", d.sensor)
-          .set("exposure_us", d.exposure_us)
+          .set("exposure_us", d.auto_exposure ? stack.frames.front().exposure_us.value_or(0) : d.exposure_us)
+          .set("auto_exposure", d.auto_exposure)
           .set("gain_factor", d.gain_factor)
           .set("binning", binning)
           .set("unpolarized_share", unpolarized)
@@ -493,8 +505,8 @@ void study_calibration(const StudyOptions& o) {
   // that auto's wider reach (scenes only one method answers) does not decide the comparison.
   Table common({"method", "common", "method_median_error_deg", "auto_median_error_deg", "method_only",
                 "auto_only"});
-  const std::size_t auto_index = methods.size() - 1;
-  for (std::size_t m = 0; m + 1 < methods.size(); ++m) {
+  const std::size_t auto_index = methods.size() - 2;
+  for (std::size_t m = 0; m < auto_index; ++m) {
     std::vector<double> mine, theirs;
     int method_only = 0, auto_only = 0;
     for (std::size_t k = 0; k < outcomes.size() / methods.size(); ++k) {  // the scenes run
