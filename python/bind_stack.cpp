@@ -174,9 +174,23 @@ void write_stream(const scene::Scene& sc, const std::string& path, const std::ve
   }
 }
 
+// `mask` (height × width) eroded by the demosaic's reach of the scene's [sensor] (camera::erode_mask,
+// demosaic_reach: 1 pixel on a mono sensor, 3 on a colour one), as the sensor stage and `skypol
+// import` erode theirs.
+py::array_t<float> erode_for_demosaic(const scene::Scene& sc, const py::array_t<float, py::array::c_style | py::array::forcecast>& mask) {
+  if (!sc.sensor) throw std::invalid_argument("erode_for_demosaic: the scene has no [sensor]");
+  if (mask.ndim() != 2) throw std::invalid_argument("erode_for_demosaic: the mask must be 2-D");
+  const auto h = static_cast<int>(mask.shape(0)), w = static_cast<int>(mask.shape(1));
+  std::vector<float> m(mask.data(), mask.data() + static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  camera::erode_mask(m, w, h, camera::demosaic_reach(sc.sensor->dofp));
+  py::array_t<float> out({h, w});
+  std::copy(m.begin(), m.end(), out.mutable_data());
+  return out;
+}
+
 // One raw mosaic (DN) through the demosaic and the masks of `skypol import` (stack/capture_import.h):
 // the scene's [sensor] at the given exposure, Stokes per band zeroed outside `mask` (the lens'
-// image circle eroded by a pixel), DoLP and AoLP (stack/polarization_math.h), R/G/B copies of S0
+// image circle eroded by the demosaic's reach, erode_for_demosaic), DoLP and AoLP (stack/polarization_math.h), R/G/B copies of S0
 // for a colour sensor, and the clipped pixels masked (camera::mask_clipped) with channel "clipped".
 py::dict demosaic_frame(const scene::Scene& sc, const py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>& raw,
                         const py::array_t<float, py::array::c_style | py::array::forcecast>& mask, double exposure_us) {
@@ -276,6 +290,8 @@ void bind_stack(py::module_& m) {
         py::arg("produce"), py::arg("sky_model"), py::arg("attributes") = Attributes{},
         py::arg("part_attributes") = std::vector<Attributes>{}, py::arg("half") = false, py::arg("compression") = "zip",
         "A stack file written part by part: produce(i) gives part i's channels; the truth is the scene's");
+  m.def("erode_for_demosaic", &erode_for_demosaic, py::arg("scene"), py::arg("mask"),
+        "The mask eroded by the reach of the scene's sensor's demosaic (1 pixel mono, 3 colour)");
   m.def("demosaic_frame", &demosaic_frame, py::arg("scene"), py::arg("raw"), py::arg("mask"), py::arg("exposure_us"),
         "A raw mosaic (DN) through the scene's [sensor] as `skypol import` converts it: the channels of a capture frame");
 }

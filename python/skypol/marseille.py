@@ -350,20 +350,15 @@ def scene_text(cal: Calibration, unix_times: Sequence[float], layout: Sequence[f
 
 
 def lens_mask(scene) -> np.ndarray:
-    """Pixels whose centre the lens images, eroded by one pixel (the demosaic mixes neighbours),
-    as `skypol import` masks a capture."""
+    """Pixels whose centre the lens images, eroded by the reach of the scene's sensor's demosaic
+    (the demosaic mixes neighbours: 1 pixel mono, 3 colour), as `skypol import` masks a capture."""
     cam = scene.camera
-    inside = np.zeros((cam.height, cam.width), dtype=bool)
+    inside = np.zeros((cam.height, cam.width), dtype=np.float32)
     u = np.arange(cam.width, dtype=np.float64)
     for y0 in range(0, cam.height, 64):  # in bands: the directions of a whole frame are 150 MB
         v = np.arange(y0, min(cam.height, y0 + 64), dtype=np.float64)
-        inside[y0:y0 + len(v)] = cam.pixel_to_direction(u[None, :], v[:, None])["valid"].astype(bool)
-    p = np.pad(inside, 1, mode="edge")
-    out = np.ones_like(inside)
-    for dy in range(3):
-        for dx in range(3):
-            out &= p[dy:dy + inside.shape[0], dx:dx + inside.shape[1]]
-    return out.astype(np.float32)
+        inside[y0:y0 + len(v)] = cam.pixel_to_direction(u[None, :], v[:, None])["valid"].astype(np.float32)
+    return _skypol.erode_for_demosaic(scene._h, inside)
 
 
 CHANNELS = [f"{s}.{b}" for b in "RGB" for s in ("S0", "S1", "S2", "DoLP", "AoLP")] + ["R", "G", "B", "mask", "clipped"]
