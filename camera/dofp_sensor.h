@@ -161,10 +161,10 @@ void erode_mask(std::vector<float>& mask, int width, int height, int reach);
 // ADC's top, whichever is lower.
 double clip_level_dn(const DofpSensor& sensor);
 // Per pixel of the demosaic's output, 1 where it read a clipped raw value: a raw pixel at or above
-// clip_level_dn within its footprint (±demosaic_reach). There the Stokes vector is wrong, and not by noise: a clipped polarizer
-// reads less than it saw, so DoLP falls and AoLP turns away from that polarizer's angle, alike in
-// every frame, which no jackknife sees (docs/benchmarks-calibration.md measures how far it moves
-// a heading).
+// clip_level_dn within its footprint (±demosaic_reach). There the Stokes vector is wrong, and not
+// by noise: a clipped polarizer reads less than it saw, so DoLP falls and AoLP turns away from that
+// polarizer's angle, alike in every frame, which no jackknife sees (docs/benchmarks-calibration.md
+// measures how far it moves a heading).
 std::vector<std::uint8_t> clipped_pixels(const DofpSensor& sensor, std::span<const std::uint16_t> raw);
 // Masks the pixels `clipped` marks (mask = 0) and writes `clipped_sky`: 1 where such a pixel was sky
 // (mask > 0 before), else 0 — the stack's "clipped" channel (docs/exr-format.md). Renders and

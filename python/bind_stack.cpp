@@ -190,8 +190,8 @@ py::array_t<float> erode_for_demosaic(const scene::Scene& sc, const py::array_t<
 
 // One raw mosaic (DN) through the demosaic and the masks of `skypol import` (stack/capture_import.h):
 // the scene's [sensor] at the given exposure, Stokes per band zeroed outside `mask` (the lens'
-// image circle eroded by the demosaic's reach, erode_for_demosaic), DoLP and AoLP (stack/polarization_math.h), R/G/B copies of S0
-// for a colour sensor, and the clipped pixels masked (camera::mask_clipped) with channel "clipped".
+// image circle eroded by the demosaic's reach, erode_for_demosaic), DoLP and AoLP
+// (stack/polarization_math.h), R/G/B copies of S0 for a colour sensor, and the clipped pixels masked (camera::mask_clipped) with channel "clipped".
 py::dict demosaic_frame(const scene::Scene& sc, const py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>& raw,
                         const py::array_t<float, py::array::c_style | py::array::forcecast>& mask, double exposure_us) {
   if (!sc.sensor) throw std::invalid_argument("demosaic_frame: the scene has no [sensor]");

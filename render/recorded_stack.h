@@ -39,9 +39,9 @@ stack::Stack record_stack(const RecordingSetup& setup, const std::vector<sky::In
 
 // The stack a DoFP camera delivers: each frame's S0–S2 through the scene sensor stage
 // (render/sensor_stage.h: simulate_raw with frame index i and the sensor's seed, the nominal
-// bilinear demosaic, DoLP and AoLP recomputed), with the mask eroded by the demosaic's reach (1 pixel, 3 on a colour sensor): the demosaic
-// reads the 3×3 neighbourhood, so a pixel next to the image circle's edge mixes in the dark
-// pixels beyond it and its DoLP is wrong. Only DoLP, AoLP and mask are kept. The sensor's width
+// bilinear demosaic, DoLP and AoLP recomputed), with the mask eroded by the demosaic's reach
+// (camera::demosaic_reach: 1 pixel, 3 on a colour sensor): a pixel that near the image circle's
+// edge mixes in the dark pixels beyond it and its DoLP is wrong. Only DoLP, AoLP and mask are kept. The sensor's width
 // and height are set to the stack's. A mono sensor needs a one-band stack, a colour one
 // (rggb_blocks) bands R, G, B (apply_sensor); throws std::invalid_argument otherwise, or for
 // frames without S0–S2.

@@ -4,8 +4,8 @@
 // them. DoLP and AoLP are then recomputed from the measured Stokes with the usual rules
 // (stack/polarization_math.h). Pixels outside the image circle or occluded keep mask 0 and hold
 // zeros, as without a sensor; so do the pixels whose demosaic mixed in those dark pixels (the mask
-// is eroded by camera::demosaic_reach: 1 pixel on a mono sensor, 3 on a colour one). A pixel whose demosaic read a clipped raw value is masked too,
-// its S0 kept; channel "clipped" is 1 on the sky pixels masked so (camera::clipped_pixels). Run
+// is eroded by camera::demosaic_reach: 1 pixel on a mono sensor, 3 on a colour one). A pixel
+// whose demosaic read a clipped raw value is masked too, its S0 kept; channel "clipped" is 1 on the sky pixels masked so (camera::clipped_pixels). Run
 // only when the scene has a [sensor] section.
 // Exposure: the sensor's fixed exposure_us, or with exposure = "auto" (SensorSpec::auto_exposure)
 // the meter's for this frame, read from the ideal S0 of the sky pixels before any noise

@@ -366,7 +366,7 @@ def render(r, g):
         "per-pixel DoLP noise ≈ 1–2 %). Mean absolute errors over the headings, in degrees (valid = estimates "
         "that found a pole):\n")
     rows = []
-    for m in g["METHODS"] + ["auto", "auto_site_free"]:
+    for m in g["METHODS"]:
         cells = [m]
         for sensor in (False, True):
             k = ("day", sensor, int(st["day_frames"]), m)

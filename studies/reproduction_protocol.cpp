@@ -39,19 +39,21 @@ void run_methods(const ProtocolSpec& spec, const stack::Stack& stack, const std:
   if (spec.auto_site_free) names.push_back(skypole::kAutoSiteFree);
   skypole::InputOptions site_free;
   site_free.use_site = false;
+  // The stack's exposures, the same for every method's row.
+  ProtocolRow first;
+  for (const stack::Frame& f : stack.frames)
+    if (sensor && f.exposure_us) {
+      first.exposure_min_us = first.exposure_min_us > 0 ? std::min(first.exposure_min_us, *f.exposure_us) : *f.exposure_us;
+      first.exposure_max_us = std::max(first.exposure_max_us, *f.exposure_us);
+    }
   std::vector<skypole::PoleEstimate> done;
   for (const std::string& m : names) {
-    ProtocolRow r;
+    ProtocolRow r = first;
     r.run = run;
     r.sensor = sensor;
     r.window_min = span_min(stack);
     r.frames = static_cast<int>(stack.frames.size());
     r.heading_deg = heading;
-    for (const stack::Frame& f : stack.frames)
-      if (sensor && f.exposure_us) {
-        r.exposure_min_us = r.exposure_min_us > 0 ? std::min(r.exposure_min_us, *f.exposure_us) : *f.exposure_us;
-        r.exposure_max_us = std::max(r.exposure_max_us, *f.exposure_us);
-      }
     r.estimate = m == skypole::kAutoSiteFree ? skypole::combine_estimates(stack, site_free, done)
                                              : skypole::run_or_combine(stack, m, {}, done);
     r.estimate.method = m;

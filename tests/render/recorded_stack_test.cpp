@@ -31,6 +31,19 @@ render::RecordingSetup setup() {
   s.sky.max_dolp = 0.7;
   return s;
 }
+
+// `s` without noise, with a deep well and a 16-bit ADC: ≈ 30000 DN at radiance 1, so that
+// quantization is ≪ 1e-3.
+camera::DofpSensor noise_free(camera::DofpSensor s) {
+  s.shot_noise = false;
+  s.read_noise_e = 0;
+  s.dark_current_e_s = 0;
+  s.adc_bits = 16;
+  s.full_well_e = 1e9;
+  s.gain_dn_per_e = 1;
+  s.electrons_per_radiance_s = 3e7;
+  return s;
+}
 }  // namespace
 
 TEST_CASE("recorded frames carry the truth and the channels the estimators read", "[render][recorded_stack]") {
@@ -55,15 +68,7 @@ TEST_CASE("recorded frames carry the truth and the channels the estimators read"
 
 TEST_CASE("a noise-free DoFP sensor returns the renderer's DoLP and AoLP", "[render][recorded_stack]") {
   const stack::Stack ideal = render::record_stack(setup(), {sky::parse_iso8601("2022-09-23T11:00:00Z")});
-  camera::DofpSensor s;
-  s.shot_noise = false;
-  s.read_noise_e = 0;
-  s.dark_current_e_s = 0;
-  s.adc_bits = 16;
-  s.full_well_e = 1e9;
-  s.gain_dn_per_e = 1;
-  s.electrons_per_radiance_s = 3e7;  // ≈ 30000 DN at radiance 1: quantization ≪ 1e-3
-  const stack::Stack got = render::through_sensor(ideal, s);
+  const stack::Stack got = render::through_sensor(ideal, noise_free(camera::DofpSensor{}));
   const auto& d0 = ideal.frames[0].channel("DoLP.Y");
   const auto& a0 = ideal.frames[0].channel("AoLP.Y");
   const auto& d1 = got.frames[0].channel("DoLP.Y");
@@ -122,14 +127,7 @@ TEST_CASE("a colour DoFP sensor records R, G and B, each near the renderer's", "
   rgb.bands = {"R", "G", "B"};
   const stack::Stack ideal = render::record_stack(rgb, {sky::parse_iso8601("2022-09-23T11:00:00Z")});
   for (const char* c : {"S0.R", "S0.G", "S0.B", "DoLP.R", "DoLP.G", "DoLP.B"}) CHECK(ideal.frames[0].has(c));
-  camera::DofpSensor s = camera::sensor_preset("lucid_phx050s_qc").dofp;
-  s.shot_noise = false;
-  s.read_noise_e = 0;
-  s.dark_current_e_s = 0;
-  s.adc_bits = 16;
-  s.full_well_e = 1e9;
-  s.gain_dn_per_e = 1;
-  s.electrons_per_radiance_s = 3e7;
+  const camera::DofpSensor s = noise_free(camera::sensor_preset("lucid_phx050s_qc").dofp);
   const stack::Stack got = render::through_sensor(ideal, s);
   REQUIRE(got.bands == rgb.bands);
   const auto& mask = got.frames[0].channel("mask");
