@@ -19,8 +19,16 @@ FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& do
                               camera::Transport transport, double min_dolp) {
   FrameEVectors out;
   out.min_dolp = min_dolp;
+  // Counted first and reserved exactly: a day's frames hold some thirty bytes per sky pixel each,
+  // and grown by push_back the vectors would hold up to twice that.
+  const auto kept = [&](std::size_t i) { return sky.valid[i] && static_cast<double>(dolp[i]) >= min_dolp; };
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < sky.pixels(); ++i) n += kept(i) ? 1 : 0;
+  out.pixel.reserve(n);
+  out.e.reserve(n);
+  out.flags.reserve(n);
   for (std::size_t i = 0; i < sky.pixels(); ++i) {
-    if (!sky.valid[i] || !(static_cast<double>(dolp[i]) >= min_dolp)) continue;
+    if (!kept(i)) continue;
     const auto e = e_vector(to_double(sky.ray_camera[i]), aolp[i], transport);
     out.pixel.push_back(static_cast<std::uint32_t>(i));
     out.e.push_back(e.value_or(Eigen::Vector3d::Zero()));
