@@ -37,6 +37,9 @@ void add_estimate(CLI::App& app) {
                   "each pole's 95 % cone and the truth: a PNG with every method, or one PNG per method in a folder "
                   "(a path ending in / or an existing folder)");
   est->add_flag("--json", a->request.json, "Print the result as JSON");
+  est->add_flag("--profile", a->request.profile,
+                "On stderr, the wall and CPU seconds of reading the stack and of each method, and the peak "
+                "resident memory after each (lines 'profile STAGE key=value ...')");
   est->add_flag("-q,--quiet", a->quiet, "No progress on stderr");
   est->callback([a] {
     a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);

@@ -3,12 +3,15 @@
 #include "skypole/report.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
+
+#include <sys/resource.h>
 
 #include "scene/json_text.h"
 #include "stack/oiio_module.h"
@@ -157,6 +160,26 @@ void write_plots(const EstimateRequest& r, const stack::Stack& stack, const std:
 
 }  // namespace
 
+ProcessUsage process_usage() {
+  ProcessUsage u;
+  u.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  rusage r{};
+  getrusage(RUSAGE_SELF, &r);
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  u.user_s = seconds(r.ru_utime);
+  u.system_s = seconds(r.ru_stime);
+  u.max_rss_mib = static_cast<double>(r.ru_maxrss) / 1024.0;  // KiB on Linux
+  return u;
+}
+
+std::string profile_line(const std::string& stage, const ProcessUsage& from, const ProcessUsage& to) {
+  const double user = to.user_s - from.user_s, sys = to.system_s - from.system_s;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "profile %s wall_s=%.3f cpu_s=%.3f user_s=%.3f sys_s=%.3f max_rss_mib=%.1f",
+                stage.c_str(), to.wall_s - from.wall_s, user + sys, user, sys, to.max_rss_mib);
+  return buf;
+}
+
 std::vector<std::string> estimator_channels(const std::string& path) {
   const stack::StackSummary s = stack::peek_stack(path);
   std::vector<std::string> want;
@@ -183,7 +206,10 @@ void print_estimate(const EstimateRequest& r) {
   if (!r.intermediates.empty() && methods != std::vector<std::string>{"classic"}) {
     throw std::invalid_argument("--intermediates: only the classic method has intermediate images");
   }
+  const ProcessUsage start = process_usage();
   const stack::Stack stack = stack::read_stack(r.path, estimator_channels(r.path));
+  ProcessUsage last = process_usage();
+  if (r.profile) std::fprintf(stderr, "%s\n", profile_line("read", start, last).c_str());
   if (stack.frames.empty()) throw std::invalid_argument(r.path + ": the stack has no frames");
   if (!r.json) {
     std::printf("stack    %s (%zu frames, %dx%d)%s\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
@@ -212,6 +238,11 @@ void print_estimate(const EstimateRequest& r) {
       }
     }
     done.push_back(e);
+    if (r.profile) {
+      const ProcessUsage now = process_usage();
+      std::fprintf(stderr, "%s\n", profile_line(methods[i], last, now).c_str());
+      last = now;
+    }
     if (r.progress && i + 1 == methods.size()) r.progress(methods.size(), methods.size());
     if (r.before_output) r.before_output();
     std::optional<Score> s;
@@ -234,6 +265,7 @@ void print_estimate(const EstimateRequest& r) {
   }
   if (r.json) std::printf("]\n");
   std::fflush(stdout);
+  if (r.profile) std::fprintf(stderr, "%s\n", profile_line("total", start, process_usage()).c_str());
   if (!r.plot.empty()) write_plots(r, stack, done);
   if (declined == methods.size()) {
     throw std::invalid_argument(r.path + ": " +

@@ -22,7 +22,22 @@ struct EstimateRequest {
   // the last; before_output() before each method's result is printed.
   std::function<void(std::size_t, std::size_t)> progress;
   std::function<void()> before_output;
+  // Where the process's time and memory go (`skypol estimate --profile`): a line on stderr for
+  // reading the stack (the decode of the channels the estimators read) and for each method, with
+  // its wall and CPU seconds and the process's peak resident memory so far (ProcessUsage).
+  bool profile = false;
 };
+
+// The process's clock and memory at one moment (getrusage and the monotonic clock): differences
+// of two say what a stage cost, whatever threads it ran on.
+struct ProcessUsage {
+  double wall_s = 0, user_s = 0, system_s = 0;
+  double max_rss_mib = 0;  // peak resident set since the process started
+};
+ProcessUsage process_usage();
+// "profile STAGE wall_s=… cpu_s=… user_s=… sys_s=… max_rss_mib=…" of the stage between `from`
+// and `to`: one line, for people and for scripts (scripts/bench-estimate).
+std::string profile_line(const std::string& stage, const ProcessUsage& from, const ProcessUsage& to);
 
 // Prints a table (or JSON: always an array, one object per method with the same keys, declined or
 // not; a declined method's reason is printed in the table too). Throws std::invalid_argument on

@@ -2,12 +2,17 @@
 // folder; a scene with a [sensor] section end to end.
 #include <catch2/catch.hpp>
 
+#include <fstream>
+#include <map>
 #include <sstream>
+#include <vector>
 
 #include "cli/cli_harness.h"
 
 using skypol::test::Result;
 using skypol::test::run;
+using skypol::test::run_shell;
+using skypol::test::skypol_bin;
 using skypol::test::TempDir;
 namespace fs = std::filesystem;
 
@@ -90,6 +95,40 @@ TEST_CASE("estimate runs every method on a noisy southern stack; evaluate scores
   INFO(tight.out);
   CHECK(tight.code == 2);
   CHECK(count(tight.out, "declined: uncertainty above the bound: 95 % cone") == 2);
+
+  // --profile: a line per stage on stderr, none in the JSON; the reading's peak memory holds at
+  // least the decoded channels (9 frames of 306×256: mask, DoLP and AoLP in floats, 8.1 MiB), in
+  // MiB and not KiB; CPU adds up over the stages, and the peak never falls.
+  {
+    const std::string err_path = (dir.path / "profile.txt").string();
+    const Result pr = run_shell("(" + skypol_bin() + " estimate " + stack + " -m classic,sun_vector --json -q --profile 2>" +
+                                err_path + ")");
+    REQUIRE(pr.code == 0);
+    CHECK(pr.out.front() == '[');
+    CHECK(pr.out.find("profile") == std::string::npos);
+    std::ifstream in(err_path);
+    std::map<std::string, std::map<std::string, double>> stage;
+    std::vector<std::string> order;
+    for (std::string line; std::getline(in, line);) {
+      std::istringstream words(line);
+      std::string tag, name, kv;
+      words >> tag >> name;
+      if (tag != "profile") continue;
+      order.push_back(name);
+      while (words >> kv) stage[name][kv.substr(0, kv.find('='))] = std::stod(kv.substr(kv.find('=') + 1));
+    }
+    REQUIRE(order == std::vector<std::string>{"read", "classic", "sun_vector", "total"});
+    const double decoded_mib = 9.0 * 306 * 256 * 3 * 4 / (1024.0 * 1024.0);
+    CHECK(stage["read"]["max_rss_mib"] > decoded_mib);
+    CHECK(stage["total"]["max_rss_mib"] < 4096);
+    CHECK(stage["classic"]["max_rss_mib"] >= stage["read"]["max_rss_mib"]);
+    CHECK(stage["total"]["max_rss_mib"] >= stage["sun_vector"]["max_rss_mib"]);
+    const double parts = stage["read"]["cpu_s"] + stage["classic"]["cpu_s"] + stage["sun_vector"]["cpu_s"];
+    CHECK(stage["total"]["cpu_s"] >= parts - 0.01);
+    CHECK(stage["total"]["cpu_s"] <= parts + 0.05);
+    CHECK(stage["classic"]["cpu_s"] == Approx(stage["classic"]["user_s"] + stage["classic"]["sys_s"]).margin(0.002));
+    CHECK(stage["classic"]["cpu_s"] > 0);
+  }
 
   const std::string inter = (dir.path / "classic.exr").string();
   const Result ci = run("estimate " + stack + " --intermediates " + inter);
