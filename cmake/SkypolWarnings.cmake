@@ -15,7 +15,7 @@ endif()
 
 # The source tree's path reaches the tests through a generated header, never a -D flag: ccache's
 # base_dir rewrites an absolute path in a -D flag relative to the build directory, so a checkout
-# elsewhere (a CI clone, a git worktree) was served objects that named another checkout's scenes.
+# elsewhere (a CI clone, a git worktree) would be served objects that name another checkout's scenes.
 # The header's contents (the path itself) are part of ccache's hash.
 file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/generated/skypol_source_dir.h
      CONTENT "#pragma once\n#define SKYPOL_SOURCE_DIR \"@PROJECT_SOURCE_DIR@\"\n" @ONLY)

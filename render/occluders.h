@@ -1,8 +1,8 @@
 // What blocks the sky: buildings, a horizon profile, meshes. The renderer asks one question of it:
 // does the ray from the observer's eye along each direction hit anything? The Embree
 // implementation (render/occluders_embree.h) lives behind this interface so that nothing else
-// includes embree3/rtcore.h, and a scene without occluders never creates one (DESIGN.md: pay for
-// what the scene asks for).
+// includes embree3/rtcore.h, and a scene without occluders never creates one (a scene pays only for
+// what it asks for).
 #pragma once
 
 #include <cstdint>

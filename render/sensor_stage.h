@@ -53,7 +53,7 @@ double meter_exposure_us(const scene::SensorSpec& sensor, const std::vector<std:
                          const stack::Frame& frame, std::span<const std::uint8_t> sky = {});
 
 // How many frames the meter has read in this process: a sensor without auto exposure reads none
-// (DESIGN.md, pay for what the scene asks for).
+// (a scene pays only for what it asks for).
 std::size_t frames_metered();
 
 }  // namespace skypol::render

@@ -25,12 +25,12 @@ no sky model with fewer whose coverage's 95 % Wilson interval tops out below C) 
 answers (within 5 %: the fewest gates, then the fewest sigma terms, then coverage nearest 95 %), its
 figures per sky model and per seed, and what auto makes of the calibrated answers.
 --apply committed|FILE: evaluate the committed calibrations (the registry's) or those in FILE
-instead of searching, e.g. on a held-out seed's uncalibrated run. FILE: JSON, either
+instead of searching, e.g. on the uncalibrated run of a seed the search did not read. FILE: JSON, either
 {method: {field: value}} (missing fields: MethodCalibration's defaults; null: an unbounded gate)
 or the array `skypol methods --json` prints.
 --auto ranked|sharpest|ephemeris|ephemeris_mean|mean|mean_raw: which agreeing answer auto returns,
-the agreeing group being auto_choice's (the C++ rule): the first method's in RANK (what auto did
-before section 7e), the sharpest, sun_vector_ephemeris' when it agrees and else the sharpest
+the agreeing group being auto_choice's (the C++ rule): the first method's in RANK (a fixed order
+of methods), the sharpest, sun_vector_ephemeris' when it agrees and else the sharpest
 (ephemeris) or else the inverse-variance mean (ephemeris_mean: what combine_estimates does), or the
 inverse-variance mean of the agreeing answers weighted by the calibrated sigma (mean) or by the
 uncalibrated sigma (mean_raw), stated with the sharpest member's sigma; all six are printed with
@@ -63,7 +63,7 @@ from skypol import _skypol
 
 LIE_DEG, LIE_SIGMA = 5.0, 5.0  # a lie: a valid answer this far off, or this many of its own sigma (the study's)
 MAX_COVERAGE = 0.98
-MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leaves room for a held-out seed
+MARGIN = 1.0  # the search counts a lie at err > 5·MARGIN·σ: MARGIN < 1 leaves room for seeds it did not read
 # A calibration must also hold for each sky model it answers on, not only pooled: a sky model with
 # at least SKY_MIN_ANSWERS answers must see at least MIN_SKY_COVERAGE of its truths inside the cone
 # (0: no such rule).
@@ -74,7 +74,7 @@ SKY_MIN_ANSWERS = 10
 # Wilson interval is below MIN_SKY_COVERAGE.
 SKY_WILSON = False
 # --auto ranked: the agreeing answer of the first method in this order, the methods by the median
-# error of their calibrated answers on seed 1 (docs/calibration-history.md, 7e).
+# error of their calibrated answers (measured in docs/calibration-history.md §7e).
 RANK = ["sun_vector_ephemeris", "great_circle", "sun_vector", "sun_dolp", "invariance", "classic"]
 # The gates, each a MethodCalibration field.
 GATES = ("max_residual_deg", "min_window_min", "max_unpolarized_share", "max_ring_anisotropy", "max_model_misfit",
@@ -275,7 +275,7 @@ def search(m, d, bound):
     misfit_deg = [0.0] if not misfit else [0.0, 10.0, 20.0, 40.0, 80.0]
     # The clipped-sky gate and the sector factor's growth with the clipped and the unpolarized
     # shares: not searched unless asked (--grid max_clipped_share=..., sector_clipped=...,
-    # sector_unpolarized=...), so that a search without them is that of the calibrations before them.
+    # sector_unpolarized=...), so that a search without them reads only the other terms.
     max_clipped_share = [math.inf]
     sector_clipped = [0.0]
     sector_unpolarized = [0.0]
@@ -294,7 +294,8 @@ def search(m, d, bound):
         return None
     # Within 5 % of the most answers any calibration keeps: the fewest gates (each is a chance to
     # fit a tuning seed's accidents), the fewest sigma terms, then the coverage nearest 95 % (the
-    # middle of the band, so that a held-out seed has room either side), then the most answers.
+    # middle of the band, so that a seed the search did not read has room either side), then the
+    # most answers.
     most = max(x[0] for x in found)
     near = [x for x in found if x[0] >= 0.95 * most]
     near.sort(key=lambda x: (x[2], x[3], round(abs(x[1] - 0.95), 3), -x[0], x[4]["floor_deg"], x[4]["inflation"]))
@@ -392,7 +393,7 @@ def main():
     ap.add_argument("--max-coverage", type=float, default=0.98,
                     help="upper end of the coverage band the search accepts (1: any zero-lie calibration)")
     ap.add_argument("--margin", type=float, default=1.0,
-                    help="the search counts a lie at error > 5·margin·σ (0.7: room for a held-out seed)")
+                    help="the search counts a lie at error > 5·margin·σ (0.7: room for seeds the search does not read)")
     ap.add_argument("--only", nargs="*", help="search (or apply) these methods only")
     ap.add_argument("--min-sky-coverage", type=float, default=0.0,
                     help=f"the search also requires this coverage of each sky model with at least {SKY_MIN_ANSWERS} "

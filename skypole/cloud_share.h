@@ -1,5 +1,5 @@
 // How much of the sky does not look like a clear sky: the cloud/model-mismatch measure behind the
-// cloud gate of run_method (evaluate.h), read from the stack's own DoLP.
+// cloud gate of run_method (calibration_gates.h), read from the stack's own DoLP.
 //
 // Cloud mixes unpolarized light into the clear sky (sky/clouds.h): under a cloud of opacity
 // α > ½ the DoLP falls below ≈ 0.3 of the clear sky's. A clear single-scattering sky is that

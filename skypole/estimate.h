@@ -109,7 +109,7 @@ struct PoleEstimate {
   // fitted Pmax, the median over frames: a multiply scattering sky's DoLP is not Rayleigh's law;
   // great_circle and sun_vector: the same, measured for them by sun_vector.h rayleigh_law_misfit,
   // evaluate.cpp run_method). 0: not measured. A diagnostic the calibration's gates and σ terms
-  // read (evaluate.h).
+  // read (calibration_gates.h, uncertainty.h).
   double model_misfit = 0;
   // An error of the method's own measurements that its data reveal but neither jackknife resolves,
   // as a shift of the pole in the tangent plane, degrees (sun_vector_ephemeris: its suns' elevations

@@ -89,7 +89,7 @@ struct Method {
 // Every registered method, in the order `-m all` runs them and auto weighs them: those of
 // skypole/method_list.h, then any added by register_method.
 const std::vector<Method>& methods();
-// The entry of `name`, or nullptr ("auto" has none: it is the combination, evaluate.h).
+// The entry of `name`, or nullptr ("auto" has none: it is the combination, auto.h).
 const Method* find_method(std::string_view name);
 // The entry of `name`; throws std::invalid_argument naming the legal ones.
 const Method& method_entry(std::string_view name);

@@ -90,9 +90,9 @@ double dolp_noise_rms(const SkyImages& sky, const std::vector<float>& dolp, cons
 // the law expects at least 3 × the pixel noise (below, the noisy DoLP is biased up: no law fitted to
 // it follows that); it counts with at least half of them. Blocks, because the blocks' noise is a
 // quarter of the pixels' and independent from block to block, so that a sensor's noise that is 2–3
-// × a misfit of 1 % does not read as one: a Rayleigh sky through the colour DoFP sensor read 1.7 %
-// when the residual of each pixel was compared with its neighbours' noise (the level of a multiply
-// scattering sky), and reads 0 so; the vrte sky of scenes/skypole-marseille-vrte.toml 2.5 % both
+// × a misfit of 1 % does not read as one: a Rayleigh sky through the colour DoFP sensor reads 1.7 %
+// when the residual of each pixel is compared with its neighbours' noise (the level of a multiply
+// scattering sky), and 0 on blocks; the vrte sky of scenes/skypole-marseille-vrte.toml 2.5 % both
 // ways. 1 when fewer than 10 blocks count.
 double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, const Eigen::Vector3d& sun,
                        double pmax);

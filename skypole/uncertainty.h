@@ -1,8 +1,8 @@
 // How sure an estimate is, in one meaning for every method: a 1-σ uncertainty of the bearing and
 // of the latitude and a 95 % cone on the sphere, all in degrees, derived from the method's own
 // data by two jackknives — one over frames, one over parts of the sky — each scaled by a
-// per-method factor that the calibration study (`skypol tradeoff calibration`,
-// docs/benchmarks.md section 7) measured on scenes the checks do not use.
+// per-method factor that the calibration study (`skypol tradeoff calibration`) measured on scenes
+// the checks do not use.
 //
 // The frame jackknife. The frames are dealt into K = min(frames, max_groups) interleaved groups
 // (frame i goes to group i mod K; max_groups is 6, or 24 for great_circle, whose refits are cheap:
@@ -33,8 +33,8 @@
 // Welch–Satterthwaite degrees of freedom of a²λ_frames + b²λ_sectors (λ: the larger eigenvalue,
 // ν_frames = K − 1, ν_sectors = 5): the stated cone is then the Student-like 95 % cone of what the
 // jackknives measured. Without it the error-to-σ ratio of sun_vector_ephemeris on 1,100 random scenes
-// had a tail 5–6 times its 95 % point (a few 3-frame windows), so no factor gave both no lie and a
-// coverage of at most 98 % (docs/benchmarks.md, section 7).
+// has a tail 5–6 times its 95 % point (a few 3-frame windows), so that no factor gives both no lie
+// and a coverage of at most 98 %.
 //
 // From covariances to numbers (stated_covariance, calibrated_covariance below):
 //     C = w²·(a²·C_frames + b²·C_sectors) + s²·I,   s² = floor² + (any per-answer terms)²
@@ -262,7 +262,7 @@ bool within_uncertainty_bound(double cone95_deg, double max_cone95_deg);
 // and is not empty at hits = n (E. B. Wilson, J. Am. Stat. Assoc. 22, 209 (1927)).
 std::pair<double, double> wilson_interval95(double hits, double n);
 
-// auto's rule (evaluate.h combine_estimates) on answers reduced to what it reads: each answer's
+// auto's rule (auto.h combine_estimates) on answers reduced to what it reads: each answer's
 // 95 % cone and σ, whether its method answers alone (MethodTraits::auto_answers_alone), and the
 // angle between any two (degrees).
 struct AutoCandidate {

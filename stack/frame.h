@@ -17,7 +17,7 @@
 namespace skypol::stack {
 
 // A frame: width×height pixels, row-major (index = y·width + x), one float vector per channel.
-// Channel names follow DESIGN.md: "S0.<band>" … "S3.<band>", "DoLP.<band>", "AoLP.<band>" (radians
+// Channel names follow docs/exr-format.md: "S0.<band>" … "S3.<band>", "DoLP.<band>", "AoLP.<band>" (radians
 // in memory, as in the file), "mask" (1 = sky seen, 0 = outside the image circle or occluded),
 // and for RGB bands also "R", "G", "B".
 struct Frame {

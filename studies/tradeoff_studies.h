@@ -23,7 +23,7 @@ struct StudyOptions {
   // none). 2.5°, i.e. σ ≤ 1.02°: then 5° is at least 4.9σ, so an answer the bound lets through is
   // more than 5° off less than once in 10⁵ if its σ is honest, and a lie (valid, > 5° off) is one
   // the method did not warn of. With a bound of 5° (σ up to 2.04°) an honest answer at the bound is
-  // more than 5° off 5 % of the time, and such answers counted as lies that were not.
+  // more than 5° off 5 % of the time, and such answers would count as lies that are not.
   double max_uncertainty_deg = 2.5;
   bool progress = false;
   // calibration: state the methods' σ without their calibration factors (to measure them).

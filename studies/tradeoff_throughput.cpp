@@ -4,7 +4,7 @@
 // scene defaults: float, zip, S0 S1 S2 DoLP AoLP mask), stack::read_stack, then every estimator
 // on the stack read back. MB are uncompressed pixel data (what the renderer hands the writer).
 // The Rayleigh-law misfit (skypole/sun_vector.h) has a row of its own: four methods' answers
-// include it (their model gates, skypole/evaluate.cpp), so their times hold it too.
+// include it (their model gates, skypole/calibration_gates.cpp), so their times hold it too.
 // Mrays/s with occluders is a placeholder row: `skypol bench-occluders` measures Embree on the
 // urban canyon, and scripts/benchmarks fills the row from it.
 #include <cstdio>

@@ -25,8 +25,8 @@ TEST_CASE("Sigma 8 mm F3.5 circular fisheye: equisolid (lensfun), 9.177 mm image
   CHECK(p.model == "equisolid");  // lensfun data/db/slr-sigma.xml: <type>equisolid</type>
   CHECK(p.focal_mm == 8.0);
   CHECK(p.fov_deg == 180);
-  // Image height at 70° off-axis, r = 2f sin(θ/2) = 16 mm · sin 35° = 9.1772 mm; the equidistant
-  // model the preset used to be gives f·θ = 9.7738 mm there, 0.6 mm (173 px of 3.45 µm) further out.
+  // Image height at 70° off-axis, r = 2f sin(θ/2) = 16 mm · sin 35° = 9.1772 mm; an equidistant
+  // model would give f·θ = 9.7738 mm there, 0.6 mm (173 px of 3.45 µm) further out.
   const SensorPreset& sensor = sensor_preset("sony_imx250mzr");
   const auto lens = make_lens(lens_spec(p, sensor));
   const double theta = 70 * std::numbers::pi / 180;

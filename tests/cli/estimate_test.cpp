@@ -85,7 +85,7 @@ TEST_CASE("estimate runs every method on a noisy southern stack; evaluate scores
   CHECK(std::abs(err) < 1.0);
   CHECK(std::abs(err) < cone);  // its stated cone holds it
   // Useful, though wide: sun_vector's calibration multiplies the jackknife's scatter by 6
-  // (skypole/evaluate.cpp), and this stack is a short, noisy one (5.1° measured).
+  // (skypole/sun_vector_method.cpp), and this stack is a short, noisy one (5.1° measured).
   CHECK(cone < 6);
 
   // A bound the answer cannot meet: declined, with the numbers, in the text output too.

@@ -31,14 +31,14 @@ const Expect kDefault{1.0, false, 5.0};
 const std::map<std::string, Expect> kExpect{
     {"skypole-marseille", {0.1, true, 1.5}},
     // Sensor noise and a 12-bit ADC through the colour demosaic. The sky is Rayleigh's, so the
-    // law-misfit gates must not decline it (its misfit reads 0.000; it read 1.7 % before the
-    // misfit was measured on blocks, docs/benchmarks.md 7i): great_circle 0.80° off (cone 1.7°),
+    // law-misfit gates must not decline it (its misfit, measured on blocks beyond their noise, reads
+    // 0.000): great_circle 0.80° off (cone 1.7°),
     // classic 1.6° (cone 40°). great_circle may still be declined by another gate, saying which.
     {"skypole-marseille-dofp", {2.0, true, 5.0, true}},
     // The multiple-scattering sky is not the single-scattering pattern the estimators assume: its
     // DoLP departs from Rayleigh's law by 2.4 % of its maximum, and classic and great_circle decline
-    // it on that gate (skypole/evaluate.cpp), saying so. At binning 8 classic answered it 20.8° off
-    // at a 5.0° cone before the gate; at binning 16 the poles were 8.3° and 4.0° off (latitude).
+    // it on that gate (skypole/calibration_gates.cpp), saying so: ungated, the poles are several
+    // degrees off inside cones of a few degrees (docs/calibration-history.md, 7i).
     {"skypole-marseille-vrte", {17.0, false, 8.0, true}},
     // The same sky through the auto-exposed colour sensor: declined on the same gate (2.3 %).
     {"skypole-marseille-vrte-dofp", {17.0, false, 8.0, true}},

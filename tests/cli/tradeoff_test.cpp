@@ -506,10 +506,9 @@ TEST_CASE("skypol tradeoff calibration --scenes replays chosen scenes of a run, 
   CHECK(!fs::exists(never));
 }
 
-// --noise-draw k: the same scenes with another draw of the sensor's noise (their noise replicates,
-// docs/benchmarks.md 7j). Seed 23's scene 252 is a clear Rayleigh sky through the colour sensor,
-// 6 frames in 90 min, on which sun_vector is 0.49° off (0.48° before the colour sensor's mask was
-// eroded by its demosaic's reach, 3 pixels); seed 1's scene 2 is a noise-free one.
+// --noise-draw k: the same scenes with another draw of the sensor's noise (their noise replicates).
+// Seed 23's scene 252 is a clear Rayleigh sky through the colour sensor, 6 frames in 90 min, on
+// which sun_vector is 0.49° off; seed 1's scene 2 is a noise-free one.
 TEST_CASE("skypol tradeoff calibration --noise-draw: the same scenes, new sensor noise", "[cli][tradeoff][calibration]") {
   TempDir tmp;
   int runs = 0;
@@ -551,9 +550,10 @@ TEST_CASE("skypol tradeoff calibration --noise-draw: the same scenes, new sensor
   CHECK(!fs::exists(never));
 }
 
-// The lies that held-out seeds caught, replayed (the population is drawn in full, so scene k of a
-// seed is always the same scene; only it is rendered) under the committed calibration: each is now
-// declined with its true reason, or stated with a σ that holds its error (docs/benchmarks.md, 7c–7d).
+// Scenes on which a method's raw answer lies, replayed (the population is drawn in full, so scene k
+// of a seed is always the same scene; only it is rendered) under the committed calibration: each is
+// declined with its true reason, or stated with a σ that holds its error (docs/calibration-history.md
+// tells how each was found).
 TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][tradeoff][calibration]") {
   TempDir tmp;
   const auto replay = [&](int seed, int scene, const std::string& method, const std::string& more = "",
@@ -568,12 +568,9 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     REQUIRE(t.rows.size() == 3);  // the method, auto, auto_site_free
     return t.rows.at(0);
   };
-  // Seed 8, scene 272: sun_vector_ephemeris was 1.01° off at σ 0.197° (a Berry sky under 33 %
-  // cloud through the colour sensor). Its suns stood 0.25–0.29° below the ephemeris' (elevation
-  // misfit 0.49°), and the retuned cloud gate (30 %) declined it, 44 % unpolarized. Most of that
-  // sky clipped (the clouds are bright): masked now (docs/benchmarks.md, 7k), its suns stand 0.19°
-  // low (0.21° before the colour mask was eroded by the demosaic's 3-pixel reach: 1.02° off, not
-  // 1.01°), and the gate declines it for the 71 % it could not read, saying so.
+  // Seed 8, scene 272: a Berry sky under 33 % cloud through the colour sensor, most of it clipped
+  // (the clouds are bright) and so masked. Raw, sun_vector_ephemeris is 1.02° off, its suns 0.19°
+  // below the ephemeris'; the cloud gate declines it for the 71 % of the sky it cannot read, saying so.
   {
     const auto row = replay(8, 272, "sun_vector_ephemeris");
     CHECK(row.at("valid") == "0");
@@ -586,24 +583,23 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(num(raw, "sun_elevation_misfit_deg") == Approx(0.192).margin(0.005));
     CHECK(num(raw, "clipped_share") == Approx(0.71).margin(0.01));
   }
-  // Seed 9, scene 285: great_circle 4.64° off at σ 0.65° on a clear vrte sky; Rayleigh's law does not hold.
+  // Seed 9, scene 285: a clear vrte sky, where Rayleigh's law does not hold: great_circle declines it.
   {
     const auto row = replay(9, 285, "great_circle");
     CHECK(row.at("valid") == "0");
     CHECK(row.at("why_invalid").find("the sky is not the model this method fits") != std::string::npos);
   }
-  // Seed 10, scene 175: invariance reported the SCP of a clear Berry sky at 57°S as the NCP.
+  // Seed 10, scene 175: a clear Berry sky at 57°S, whose suns alone would have invariance call the
+  // SCP the NCP: its two witnesses of the hemisphere disagree, and it declines.
   {
     const auto row = replay(10, 175, "invariance");
     CHECK(row.at("valid") == "0");
     CHECK(row.at("why_invalid").find("cannot tell north from south") != std::string::npos);
     CHECK(row.at("why_invalid").find("neutral point") != std::string::npos);
   }
-  // Seed 11, scene 292: sun_vector 4.32° off at σ 0.83° on a vrte sky at 47°S, all of it latitude.
-  // The sky departs from Rayleigh's law by 2.1 % of its maximum (on 4×4 blocks, beyond their noise;
-  // 0.023 by the pixel measure before section 7i). A 40° per unit σ term declined it on the bound
-  // until then; with the block measure that term stated 0.96° (4.5σ), and sun_vector's retune
-  // declines a sky past 1 % misfit instead, as great_circle and sun_dolp do.
+  // Seed 11, scene 292: a vrte sky at 47°S on which sun_vector's raw answer is 4.32° off, all of it
+  // latitude. The sky departs from Rayleigh's law by 2.1 % of its maximum (on 4×4 blocks, beyond
+  // their noise), and sun_vector declines a sky past 1 % misfit, as great_circle and sun_dolp do.
   {
     const auto row = replay(11, 292, "sun_vector");
     CHECK(row.at("valid") == "0");
@@ -614,9 +610,8 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(num(raw, "angular_error_deg") == Approx(4.32).margin(0.01));
     CHECK(num(raw, "model_misfit") == Approx(0.0209).margin(0.0005));
   }
-  // Seed 13, scene 115 (held out): 7c's calibration of invariance would have answered this clear
-  // Berry sky at 11°S 3.30° off at 3.9σ. Its law misfit, 0.030, counts 2.4° (80° per unit) now:
-  // declined by the bound.
+  // Seed 13, scene 115: a clear Berry sky at 11°S on which invariance's raw answer is 3.30° off.
+  // Its law misfit, 0.030, counts 2.4° in its σ (80° per unit): declined by the bound.
   {
     const auto row = replay(13, 115, "invariance");
     CHECK(row.at("valid") == "0");
@@ -626,10 +621,10 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(num(raw, "angular_error_deg") == Approx(3.30).margin(0.01));
     CHECK(num(raw, "model_misfit") == Approx(0.030).margin(0.0005));
   }
-  // Seed 16, scene 76, at binning 8 (306×256): great_circle was 2.82° off at σ 0.43° (6.6σ) on a
-  // Rayleigh sky read as 52 % unpolarized under cloud; the sector factor that grows with the
-  // unpolarized share made it 3.8σ (section 7h). 1.2° of that error was the mono sensor's clipping:
-  // with the clipped sky masked it is 1.63° off, its σ 1.1° in latitude, and declined by the bound.
+  // Seed 16, scene 76, at binning 8 (306×256): a Rayleigh sky under cloud through the mono sensor,
+  // about half of it unpolarized. With its clipped sky masked great_circle is 1.63° off; the sector
+  // factor, which grows with the unpolarized share, states a σ of 1.1° in latitude, and the bound
+  // declines it.
   {
     const auto raw = replay(16, 76, "great_circle", " --uncalibrated --max-uncertainty inf", 8);
     REQUIRE(raw.at("valid") == "1");
@@ -639,10 +634,10 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(row.at("valid") == "0");
     CHECK(row.at("why_invalid").find("95 % cone") != std::string::npos);
   }
-  // Seeds 19 (scene 50) and 21 (scene 9), at binning 8: sun_vector_ephemeris 0.175° off at 5.4σ and
-  // 0.284° at 6.1σ on clear Rayleigh skies through the mono sensor, the same in every noise draw: a
-  // saturation bias (section 7k). With the clipped sky masked they are 0.0007° and 0.0004° off, and
-  // the gate declines both, 95 % and 94 % of their sky clipped in some frame.
+  // Seeds 19 (scene 50) and 21 (scene 9), at binning 8: clear Rayleigh skies through the mono
+  // sensor, whose clipped sky would bias a fit that read it (alike in every noise draw). With it
+  // masked sun_vector_ephemeris is 0.0007° and 0.0004° off, and the gate declines both, 95 % and
+  // 94 % of their sky clipped in some frame.
   for (const auto& [seed, scene, error, clipped] :
        std::vector<std::tuple<int, int, double, double>>{{19, 50, 0.0007, 0.95}, {21, 9, 0.0004, 0.94}}) {
     INFO("seed " << seed << " scene " << scene);
@@ -654,9 +649,9 @@ TEST_CASE("the held-out seeds' lies, replayed, are declined or honest", "[cli][t
     CHECK(row.at("valid") == "0");
     CHECK(row.at("why_invalid").find("cloud, neutral points or clipping") != std::string::npos);
   }
-  // Seed 21, scene 154, at binning 8: with its clipped sky masked, invariance lost 78 % of a clear
-  // Rayleigh sky (24 frames in 472 min; 0.0022° off while it fitted the clipped sky) and was
-  // 0.065° off at 6.8σ. Its calibration holds no answer on a sky so clipped, and declines it.
+  // Seed 21, scene 154, at binning 8: with its clipped sky masked, invariance loses 78 % of a clear
+  // Rayleigh sky (24 frames in 472 min) and is 0.065° off. Its calibration holds no answer on a sky
+  // so clipped, and declines it.
   {
     const auto raw = replay(21, 154, "invariance", " --uncalibrated --max-uncertainty inf", 8);
     REQUIRE(raw.at("valid") == "1");

@@ -146,7 +146,7 @@ TEST_CASE("a colour DoFP sensor records R, G and B, each near the renderer's", "
     // Each colour's polarizer block repeats every 4 pixels (RGGB over 2×2 blocks): the demosaic
     // interpolates over twice the mono lattice, so the sky's curvature bounds it (2²) 4 times more
     // loosely than the mono case's 0.03. The mask is eroded by 3 pixels, the colour demosaic's reach:
-    // with mono's 1 the ring next to the circle's edge, which mixes in darkness, was 0.2–0.33 off.
+    // eroded by mono's 1, the ring next to the circle's edge, which mixes in darkness, is 0.2–0.33 off.
     CHECK(worst < 0.12);
   }
   // A mono sensor cannot take three bands, nor a colour one a single band.

@@ -404,11 +404,11 @@ std::uint64_t fnv1a(const std::vector<T>& values, std::uint64_t h) {
 }  // namespace
 
 TEST_CASE("a fixed exposure renders the shipped sensor scene as it did before auto exposure", "[sensor][exposure]") {
-  // The checksums of skypole-marseille-dofp.toml at binning 16 (23 frames, float): its raw mosaic
-  // (DN) as the build before auto exposure existed wrote it, computed from that file with
-  // OpenImageIO and NumPy, and S0.G since the colour sensor's mask is eroded by its demosaic's
-  // reach (3 pixels, where it was 1: the ring between held Stokes that mixed in darkness, now
-  // zeros). Any change to the sensor's pixels, or to what it is fed, shows here.
+  // The checksums of skypole-marseille-dofp.toml at binning 16 (23 frames, float), computed with
+  // OpenImageIO and NumPy: its raw mosaic (DN) from a render by a build without auto exposure,
+  // and S0.G with the colour sensor's mask eroded by its demosaic's reach (3 pixels: the ring
+  // between held Stokes, which mixes in darkness, is zeros). Any change to the sensor's pixels,
+  // or to what it is fed, shows here.
   const std::string scene_file = std::string(SKYPOL_SOURCE_DIR) + "/scenes/skypole-marseille-dofp.toml";
   const scene::Scene sc = scene::load_scene(
       scene_file, {scene::parse_override("camera.binning=16"), scene::parse_override("output.pixel_type=\"float\""),

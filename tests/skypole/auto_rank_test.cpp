@@ -1,4 +1,4 @@
-// auto's ranking (skypole/evaluate.h combine_estimates) on hand-made answers whose outcome is worked
+// auto's ranking (skypole/auto.h combine_estimates) on hand-made answers whose outcome is worked
 // out by hand: two answers agree when their angle is at most 1.5185 × the root-sum-square of their
 // 95 % cones; the centre is the answer most others agree with (ties: the narrowest cone); auto
 // declines when the group is no larger than the dissent; it returns the ephemeris' answer as it

@@ -112,7 +112,7 @@ TEST_CASE("great circles: a hint loses to decisive evidence, and too little inpu
   const skypole::PoleEstimate e = skypole::estimate_great_circle(stack, p).estimate;
   REQUIRE(e.valid);
   // Marseille over a whole day: the sky's rotation is decisive, so the wrong hint is overridden
-  // (it used to be obeyed, giving a 180° bearing error) and the note says so.
+  // (obeyed, it would give a 180° bearing error) and the note says so.
   CHECK(e.is_north);
   CHECK(e.note.find("overriding the hint") != std::string::npos);
   CHECK(std::abs(*skypole::score(e, stack.frames.front().truth).bearing_error_deg) < 1.0);
@@ -216,8 +216,8 @@ TEST_CASE("on Berry's sky, circles refitted away from the sun and antisun keep t
     const skypole::Score without = run(stack, p, "berry, every crossing");
     INFO(start << ": with " << with.angular_error_deg << "°, without " << without.angular_error_deg << "°");
     // Measured: 0.33° against 0.92° (equinox day), 1.28° against 4.16° (a winter afternoon);
-    // 40° of exclusion gave 0.51° and 2.42°, 70° gave 0.24° and 0.93° (the band left, 70–110°
-    // from the sun, no longer holds the pole at the solstices).
+    // 40° of exclusion gives 0.51° and 2.42°, 70° gives 0.24° and 0.93° (the band left, 70–110°
+    // from the sun, does not hold the pole at the solstices).
     CHECK(with.angular_error_deg < 0.4 * without.angular_error_deg);
   }
 }

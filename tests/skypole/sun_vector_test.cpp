@@ -158,8 +158,8 @@ TEST_CASE("sun_vector and sun_dolp on the equator report the north pole", "[skyp
   }
 }
 
-// Singapore (1.35°N): the sun's rotation says north without doubt; a wrong hint used to be obeyed
-// silently ("hemisphere from hint") with a 180° bearing error. Now the data win and the note says so.
+// Singapore (1.35°N): the sun's rotation says north without doubt, so a wrong hint (which, obeyed,
+// would turn the bearing by 180°) loses to the data, and the note says so.
 TEST_CASE("a wrong hemisphere hint loses to a decisive sun rotation in Singapore", "[skypole][sun_vector][hemisphere]") {
   testing::SyntheticSpec spec;
   spec.latitude_deg = 1.35;

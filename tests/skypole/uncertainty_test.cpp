@@ -129,7 +129,8 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
     // misses one day in twenty: its coverage is checked over thirty such days below.
     if (m != "great_circle") CHECK(s.angular_error_deg < e.cone95_deg);
     // The methods whose calibration factor is modest state a useful cone; classic, great_circle
-    // and sun_dolp carry the large factors their cloud and sky-model errors earned (evaluate.cpp).
+    // and sun_dolp carry the large factors their cloud and sky-model errors earned (their registry
+    // entries, skypole/*_method.cpp).
     if (m == "invariance" || m == "sun_vector" || m == "sun_vector_ephemeris" || m == "auto")
       CHECK(e.cone95_deg < 5);
   }
@@ -138,9 +139,8 @@ TEST_CASE("every method states an uncertainty that holds its error on a noisy da
 TEST_CASE("great_circle's cone holds its error on 28 of 30 noisy days, and it never lies",
           "[skypole][uncertainty]") {
   // The noisy day above at thirty headings and noise draws (128 px, 17 frames over 8 h, DoLP noise
-  // 0.01). Its delete-one frame jackknife and its calibration (evaluate.h) hold 28 (as did six
-  // frame groups and the calibration before them, with cones 15 % wider); a σ half as large would
-  // hold some 20.
+  // 0.01). Its delete-one frame jackknife and its calibration (great_circle_method.cpp) hold 28; a σ
+  // half as large would hold some 20.
   int answers = 0, inside = 0;
   for (int seed = 1; seed <= 30; ++seed) {
     testing::SyntheticSpec spec;
@@ -205,7 +205,7 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
     CHECK_THAT(sv.why_invalid, Catch::Contains("window (40 min) is shorter than the 120 min"));
     skypole::apply_calibration_gates(raw, c, stack, uncalibrated);
     CHECK(raw.valid);
-    // The committed calibration's own window gate (sun_vector's 60 min, evaluate.cpp) says the same.
+    // The committed calibration's own window gate (sun_vector's 60 min, sun_vector_method.cpp) says the same.
     const skypole::PoleEstimate committed = skypole::run_method(stack, "sun_vector");
     CHECK_FALSE(committed.valid);
     CHECK_THAT(committed.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
