@@ -14,6 +14,7 @@
 // sky model (calibration_by_sky.csv), and auto against each method on the scenes both answer
 // (calibration_auto.csv).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -68,6 +69,16 @@ struct Draw {
   double exposure_us = 0, gain_factor = 1;
   bool auto_exposure = false;  // the meter sets each frame's exposure (exposure_us is then unused)
   std::uint64_t seed = 0;
+  // Outside the calibration's families (the mismatch population; Population::off_family): the
+  // defaults below are the other populations' values, which they never draw.
+  bool off_family = false;
+  sky::AerosolSpec aerosol_optics;  // vrte: a custom mode's size and index, Ångström and ω overrides
+  int streams = 12, grid = 25;      // vrte: the solver's Gauss nodes and table grid
+  double separation_deg = 20;       // berry: the neutral points' distance from the sun
+  std::string berry_normalisation = "split_rayleigh";
+  std::array<double, 4> angle_error_deg{};  // the sensor's micro-polarizers, per mosaic position
+  double extinction_ratio = 0;              // 0: the preset's
+  double prnu_rms = 0, dsnu_e = 0;          // fixed-pattern noise, per binned pixel
 };
 
 double sun_elevation_deg(const sky::Site& site, double unix_s) {
@@ -82,22 +93,68 @@ double sun_elevation_deg(const sky::Site& site, double unix_s) {
 // the draws below 0.3, as sun photometer networks see clear-sky loads), ground albedo uniform on
 // 0–0.35 — sites up to 80° from the equator and windows of 30 min to 12 h, and 60 % of its sensors
 // auto-exposed, as a camera left to meter sets itself; its tables are solved per scene and not
-// cached (each atmosphere is new).
+// cached (each atmosphere is new). "mismatch": skies and sensors outside the families the
+// calibration was read off (draw_off_family), so that a stated cone is checked where no method's
+// model holds exactly: the realistic population's sites, windows, loads and meter, every camera
+// tilted 3–15°, a sensor in every scene, and its own aerosols, solver settings, Berry skies and
+// manufacturing errors.
 struct Population {
   double max_abs_latitude_deg, min_window_min, max_window_min;
   double rayleigh_share, berry_share;  // the rest is vrte
   double no_sensor_share, mono_share;  // the rest is colour
   bool climatology;
   double auto_exposure_share;  // of the scenes with a sensor; 0: no draw (the mixed population's scenes stay as they were)
+  double level_share = 0.4;    // cameras set level; the others tilt min_tilt_deg … 15°
+  double min_tilt_deg = 0;
+  bool off_family = false;     // draw_off_family's draws, after every other draw of the scene
 };
 constexpr Population kMixed{70, 20, 660, 0.45, 0.25, 0.15, 0.65, false, 0};
 constexpr Population kRealistic{80, 30, 720, 0.15, 0.15, 0.1, 0.45, true, 0.6};
+constexpr Population kMismatch{80, 30, 720, 0.1, 0.25, 0, 0.45, true, 0.6, 0, 3, true};
 
 const Population& population_of(const std::string& name) {
   if (name == "mixed") return kMixed;
   if (name == "realistic") return kRealistic;
+  if (name == "mismatch") return kMismatch;
   throw std::invalid_argument("tradeoff calibration: unknown population \"" + name +
-                              "\" (expected one of mixed, realistic)");
+                              "\" (expected one of mixed, realistic, mismatch)");
+}
+
+// The mismatch population's own draws, each outside what the calibration was read off:
+// - vrte: in 60 % of the scenes one custom log-normal mode (median radius log-uniform on
+//   0.02–1.5 µm, σ_g 1.4–2.5, m = n + ik with n 1.33–1.65 and k 0 or log-uniform on 10⁻⁴–0.05),
+//   else the drawn OPAC type with its Ångström exponent (0–2.2) and single-scattering albedo
+//   (0.8–1) each overridden in half of the scenes; the solver at 6, 8 or 16 streams and a grid of
+//   13, 17 or 33 nodes (the others: 12 and 25);
+// - berry: neutral points 10–35° from the sun (the others: 20°), either normalisation;
+// - the sensor: each micro-polarizer ±2° off its nominal angle, extinction ratio log-uniform on
+//   20–500 (the others: the preset's 100), PRNU 0.3–3 % and DSNU 0–30 e⁻ rms per binned pixel,
+//   demosaiced as an uncalibrated pipeline does (ideal polarizers assumed).
+void draw_off_family(std::mt19937_64& rng, Draw& d) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const auto log_uniform = [&](double lo, double hi) { return lo * std::exp(u(rng) * std::log(hi / lo)); };
+  const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(u(rng) * static_cast<double>(n)) % n; };
+  d.off_family = true;
+  sky::AerosolSpec& a = d.aerosol_optics;
+  if (u(rng) < 0.6) {
+    d.aerosol = "custom";
+    a.median_radius_um = log_uniform(0.02, 1.5);
+    a.geometric_std = 1.4 + 1.1 * u(rng);
+    a.refractive_real = 1.33 + 0.32 * u(rng);
+    a.refractive_imag = u(rng) < 0.3 ? 0.0 : log_uniform(1e-4, 0.05);
+  } else {
+    if (u(rng) < 0.5) a.angstrom = 2.2 * u(rng);
+    if (u(rng) < 0.5) a.ssa = 0.8 + 0.2 * u(rng);
+  }
+  const std::array<int, 3> streams = {6, 8, 16}, grids = {13, 17, 33};
+  d.streams = streams[pick(streams.size())];
+  d.grid = grids[pick(grids.size())];
+  d.separation_deg = 10 + 25 * u(rng);
+  d.berry_normalisation = u(rng) < 0.5 ? "split_rayleigh" : "opensky";
+  for (double& e : d.angle_error_deg) e = 4 * u(rng) - 2;
+  d.extinction_ratio = log_uniform(20, 500);
+  d.prnu_rms = 0.003 + 0.027 * u(rng);
+  d.dsnu_e = 30 * u(rng);
 }
 
 // One scene of the population; the sun stays ≥ 3° above the horizon in every frame.
@@ -129,7 +186,7 @@ Draw draw_scene(std::mt19937_64& rng, int index, const Population& pop) {
       up = sun_elevation_deg(d.site, d.start_unix + i * d.step_min * 60.0) >= 3.0;
     if (!up && attempt < 200) continue;
     d.heading = 360 * u(rng);
-    d.tilt = u(rng) < 0.4 ? 0.0 : 15 * u(rng);
+    d.tilt = u(rng) < pop.level_share ? 0.0 : pop.min_tilt_deg + (15 - pop.min_tilt_deg) * u(rng);
     d.roll = u(rng) < 0.4 ? 0.0 : 360 * u(rng);  // the tilt's direction
     d.lens = lenses[static_cast<std::size_t>(u(rng) * static_cast<double>(lenses.size())) % lenses.size()];
     // Every sky model: single scattering (Rayleigh), Berry's neutral points, and the physically
@@ -163,6 +220,7 @@ Draw draw_scene(std::mt19937_64& rng, int index, const Population& pop) {
     const std::time_t t = static_cast<std::time_t>(day0);
     std::strftime(buf, sizeof buf, "%Y-%m-%d", std::gmtime(&t));
     d.date = buf;
+    if (pop.off_family) draw_off_family(rng, d);
     return d;
   }
 }
@@ -216,10 +274,15 @@ stack::Stack render_draw(const Draw& d, int binning, int noise_draw, const Popul
   const bool vrte = d.sky_model == "vrte";
   if (vrte) {
     sky.max_dolp = 1.0;  // the solver gives the degree itself
+    if (d.off_family) sky.aerosol = d.aerosol_optics;
     sky.aerosol.type = d.aerosol;
     sky.aerosol.tau_550 = d.tau_550;
     sky.ground_albedo = d.ground_albedo;
+    sky.streams = d.streams;
+    sky.grid = d.grid;
   }
+  sky.separation_deg = d.separation_deg;
+  sky.berry_normalisation = d.berry_normalisation;
   // One model per band (vrte), or one grey model. The vrte atmosphere is the standard one at
   // 45° latitude for every site (the Rayleigh depth's latitude term is < 0.3 %), so that a table
   // serves every scene with the same aerosol, depth and albedo.
@@ -250,6 +313,12 @@ stack::Stack render_draw(const Draw& d, int binning, int noise_draw, const Popul
     // are random 64-bit numbers: no two draws of the population share a key in practice).
     sensor.dofp = paper_sensor(binning, d.exposure_us, d.seed + static_cast<std::uint64_t>(noise_draw) * 1000003ULL);
     sensor.dofp.gain_dn_per_e *= d.gain_factor;
+    if (d.off_family) {
+      sensor.dofp.angle_error_deg = d.angle_error_deg;
+      sensor.dofp.extinction_ratio = d.extinction_ratio;
+      sensor.dofp.prnu_rms = d.prnu_rms;
+      sensor.dofp.dsnu_e = d.dsnu_e;
+    }
     // The vrte sky's S0 is I/F (≈ 0.01–1 sr⁻¹), not the grey models' unit (docs/scenes.md): at a
     // fixed exposure it is exposed as the grey skies are, its brightest sky (99th percentile of
     // frame 0's S0) at the radiance the sensor's preset puts at 70 % of the full well in 1 ms. An
@@ -295,7 +364,10 @@ void study_calibration(const StudyOptions& o) {
               "latitude_error_deg", "sigma_bearing_deg", "sigma_latitude_deg", "sigma_deg", "cone95_deg",
               "inside_cone", "lie", "residual_deg", "model_misfit", "sun_elevation_misfit_deg", "unpolarized_share", "clipped_share", "ring_anisotropy", "pole_x", "pole_y", "pole_z", "is_north",
               "offset_az_deg", "offset_alt_deg", "sigma_frames_deg", "frame_groups", "sigma_sectors_deg", "frames_aa_deg2", "frames_ab_deg2", "frames_bb_deg2",
-              "sectors_aa_deg2", "sectors_ab_deg2", "sectors_bb_deg2", "estimate_s"});
+              "sectors_aa_deg2", "sectors_ab_deg2", "sectors_bb_deg2", "estimate_s",
+              "median_radius_um", "geometric_std", "refractive_real", "refractive_imag", "angstrom", "ssa",
+              "streams", "grid", "separation_deg", "berry_normalisation", "angle_error_max_deg",
+              "extinction_ratio", "prnu_rms", "dsnu_e"});
   // One record per (scene, method), summarised per method and per method and sky model.
   struct Outcome {
     std::size_t method = 0;
@@ -383,6 +455,30 @@ void study_calibration(const StudyOptions& o) {
           .set("method", methods[m])
           .set("valid", e.valid)
           .set("estimate_s", e.seconds);
+      // The mismatch population's draws (empty for the others, which keep the defaults): the aerosol's
+      // optics and the solver's settings on a vrte sky, the neutral points on a Berry sky, the sensor's
+      // manufacturing errors.
+      if (d.off_family) {
+        if (d.sky_model == "vrte") {
+          const sky::AerosolSpec& a = d.aerosol_optics;
+          if (d.aerosol == "custom")
+            rows.set("median_radius_um", a.median_radius_um)
+                .set("geometric_std", a.geometric_std)
+                .set("refractive_real", a.refractive_real)
+                .set("refractive_imag", a.refractive_imag);
+          if (a.angstrom) rows.set("angstrom", *a.angstrom);
+          if (a.ssa) rows.set("ssa", *a.ssa);
+          rows.set("streams", d.streams).set("grid", d.grid);
+        }
+        if (d.sky_model == "berry")
+          rows.set("separation_deg", d.separation_deg).set("berry_normalisation", d.berry_normalisation);
+        double worst = 0;
+        for (const double a : d.angle_error_deg) worst = std::max(worst, std::abs(a));
+        rows.set("angle_error_max_deg", worst)
+            .set("extinction_ratio", d.extinction_ratio)
+            .set("prnu_rms", d.prnu_rms)
+            .set("dsnu_e", d.dsnu_e);
+      }
       Outcome out;
       out.method = m;
       out.stack = k;
