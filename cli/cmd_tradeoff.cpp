@@ -94,9 +94,11 @@ void add_tradeoff(CLI::App& app) {
                   "`stack` column; default: all), the same scenes as in the whole run")
       ->delimiter(',');
   cmd->add_option("--population", a->options.population,
-                  "calibration: mixed (default: Rayleigh and Berry in 70 % of the scenes, 12 vrte atmospheres) or "
-                  "realistic (vrte in 70 %, every OPAC aerosol, tau(550) 0.02-0.8 log-uniform, albedo 0-0.35)")
-      ->check(CLI::IsMember({"mixed", "realistic"}));
+                  "calibration: mixed (default: Rayleigh and Berry in 70 % of the scenes, 12 vrte atmospheres), "
+                  "realistic (vrte in 70 %, every OPAC aerosol, tau(550) 0.02-0.8 log-uniform, albedo 0-0.35) or "
+                  "mismatch (outside the calibration's families: custom aerosol modes, other vrte streams and grids, "
+                  "other Berry skies, tilted cameras, sensors with polarizer angle errors, extinction ratio, PRNU, DSNU)")
+      ->check(CLI::IsMember({"mixed", "realistic", "mismatch"}));
   cmd->add_option("--noise-draw", a->options.noise_draw,
                   "calibration: the sensor's noise draw (0: each scene's own; k > 0: new noise for the same scenes, "
                   "their noise replicates)")

@@ -46,7 +46,11 @@ struct StudyOptions {
   int noise_draw = 0;
   // calibration: which population the scenes are drawn from (tradeoff_calibration.cpp, draw_scene):
   // "mixed", single scattering in most scenes and a few vrte atmospheres; "realistic", the physically
-  // based sky in most scenes, its atmosphere drawn from a climatology.
+  // based sky in most scenes, its atmosphere drawn from a climatology; "mismatch", skies and sensors
+  // outside the families the calibration was read off (custom aerosol modes and overridden OPAC
+  // optics, other vrte streams and grids, other Berry neutral points, every camera tilted, sensors
+  // with polarizer angle errors, extinction ratios, PRNU and DSNU), to check the cones where no
+  // model holds exactly. Its scenes are reported apart from the population's.
   std::string population = "mixed";
 };
 

@@ -506,6 +506,96 @@ TEST_CASE("skypol tradeoff calibration --scenes replays chosen scenes of a run, 
   CHECK(!fs::exists(never));
 }
 
+// The populations (tradeoff_calibration.cpp, draw_scene). The realistic population's scenes stay the
+// scenes its held-out seeds were read on: seed 44's scene 2, a Berry sky (cheap to render), drawn
+// as before the mismatch population was added. The mismatch population draws outside the
+// calibration's families: every value in its range, never the other populations' defaults.
+TEST_CASE("skypol tradeoff calibration --population: realistic's scenes unchanged, mismatch's outside the families",
+          "[cli][tradeoff][calibration]") {
+  TempDir tmp;
+  const auto calibrate = [&](const std::string& name, const std::string& args) {
+    const fs::path out = tmp.path / name;
+    const Result r = run("tradeoff calibration --binning 16 --methods sun_azimuth " + args + " --out " + out.string());
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    return read_csv(out / "calibration.csv");
+  };
+  const std::vector<std::string> off_family = {"median_radius_um", "geometric_std", "refractive_real", "refractive_imag",
+                                               "angstrom", "ssa", "streams", "grid", "separation_deg",
+                                               "berry_normalisation", "angle_error_max_deg", "extinction_ratio",
+                                               "prnu_rms", "dsnu_e"};
+  {
+    const Csv t = calibrate("realistic", "--population realistic --seed 44 --count 300 --scenes 2");
+    REQUIRE(t.rows.size() == 3);  // sun_azimuth, auto, auto_site_free
+    const auto& r = t.rows.at(0);
+    const std::map<std::string, std::string> drawn = {
+        {"latitude_deg", "5.3763"}, {"date", "2023-10-09"}, {"window_min", "34.9854"}, {"frames", "3"},
+        {"heading_deg", "268.199"}, {"tilt_deg", "12.8107"}, {"lens", "equidistant"}, {"sky", "berry"},
+        {"aerosol", "maritime_polluted"}, {"tau_550", "0.0505528"}, {"ground_albedo", "0.280343"},
+        {"cloud", "0.221135"}, {"sensor", "colour"}, {"auto_exposure", "1"}};
+    for (const auto& [column, value] : drawn) {
+      INFO(column);
+      CHECK(r.at(column) == value);
+    }
+    for (const std::string& c : off_family) {
+      INFO(c);
+      CHECK(r.at(c).empty());
+    }
+  }
+  const Csv t = calibrate("mismatch", "--population mismatch --seed 1 --count 3");
+  REQUIRE(t.rows.size() == 3 * 3);
+  int vrte = 0, custom = 0;
+  for (std::size_t i = 0; i < t.rows.size(); i += 3) {
+    const auto& r = t.rows[i];
+    INFO("scene " << r.at("stack") << ", " << r.at("sky"));
+    CHECK(num(r, "tilt_deg") >= 3);  // every camera tilted
+    CHECK(num(r, "tilt_deg") <= 15);
+    CHECK(r.at("sensor") != "none");  // every scene through a sensor with manufacturing errors
+    CHECK(num(r, "angle_error_max_deg") > 0);
+    CHECK(num(r, "angle_error_max_deg") <= 2);
+    CHECK(num(r, "extinction_ratio") >= 20);
+    CHECK(num(r, "extinction_ratio") <= 500);
+    CHECK(num(r, "prnu_rms") >= 0.003);
+    CHECK(num(r, "prnu_rms") <= 0.03);
+    CHECK(num(r, "dsnu_e") >= 0);
+    CHECK(num(r, "dsnu_e") <= 30);
+    if (r.at("sky") == "vrte") {
+      ++vrte;
+      CHECK((r.at("streams") == "6" || r.at("streams") == "8" || r.at("streams") == "16"));
+      CHECK((r.at("grid") == "13" || r.at("grid") == "17" || r.at("grid") == "33"));
+      if (r.at("aerosol") == "custom") {
+        ++custom;
+        CHECK(num(r, "median_radius_um") >= 0.02);
+        CHECK(num(r, "median_radius_um") <= 1.5);
+        CHECK(num(r, "geometric_std") >= 1.4);
+        CHECK(num(r, "geometric_std") <= 2.5);
+        CHECK(num(r, "refractive_real") >= 1.33);
+        CHECK(num(r, "refractive_real") <= 1.65);
+        CHECK(num(r, "refractive_imag") <= 0.05);
+      } else {
+        CHECK(r.at("median_radius_um").empty());
+      }
+    } else {
+      CHECK(r.at("streams").empty());
+    }
+    if (r.at("sky") == "berry") {
+      CHECK(num(r, "separation_deg") >= 10);
+      CHECK(num(r, "separation_deg") <= 35);
+    } else {
+      CHECK(r.at("separation_deg").empty());
+    }
+  }
+  CHECK(vrte == 2);  // seed 1: an OPAC type with its ω overridden, a Rayleigh sky, a custom mode
+  CHECK(custom == 1);
+  CHECK(t.rows.at(0).at("ssa") == "0.905987");
+  // An unknown population is refused before anything is written, with the legal names.
+  const fs::path never = tmp.path / "never";
+  const Result bad = run("tradeoff calibration --small --population mismatched --out " + never.string());
+  CHECK(bad.code != 0);
+  CHECK(bad.out.find("mismatch") != std::string::npos);
+  CHECK(!fs::exists(never));
+}
+
 // --noise-draw k: the same scenes with another draw of the sensor's noise (their noise replicates).
 // Seed 23's scene 252 is a clear Rayleigh sky through the colour sensor, 6 frames in 90 min, on
 // which sun_vector is 0.49° off; seed 1's scene 2 is a noise-free one.
