@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "scene/output_defaults.h"
+#include "sky/units.h"
 
 namespace skypol::scene {
 namespace {
@@ -78,7 +79,7 @@ void require_daylight(const Scene& scene, const Fields& time) {
   // loads every variant's scene.
   double highest = -90;
   for (sky::Instant t : scene.times) {
-    highest = std::max(highest, sky::sun_position(scene.site, t, scene.sun_options).elevation * 180 / std::numbers::pi);
+    highest = std::max(highest, deg_from_rad(sky::sun_position(scene.site, t, scene.sun_options).elevation));
     if (highest >= 0) break;
   }
   if (highest < 0) {

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sky/units.h"
 #include "skypole/classic.h"
 #include "skypole/cloud_share.h"
 #include "skypole/run_bare.h"
@@ -47,7 +48,7 @@ std::string csv_field(const std::string& s) {
 namespace {
 
 double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
-  return tangent_offset(a, b).norm() * 180.0 / 3.14159265358979323846;
+  return deg_from_rad(tangent_offset(a, b).norm());
 }
 
 }  // namespace

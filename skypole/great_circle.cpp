@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
+#include "sky/units.h"
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
 #include "skypole/stack_sky.h"
@@ -19,9 +20,6 @@
 
 namespace skypol::skypole {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 using Crossing = CircleCrossing;
 
@@ -264,18 +262,18 @@ void set_circles(CirclePair& cp, const std::vector<Crossing>& pts, const PlaneFi
                  const GreatCircleParams& params) {
   cp.radial_points = radial.inliers;
   cp.plane_points = plane.inliers;
-  cp.radial_rms_deg = radial.rms / kDeg;
+  cp.radial_rms_deg = radial.rms / kRadPerDeg;
   // The largest exclusion (the given one, then 2/3 and 1/3 of it) that leaves enough of the
   // circle; a view of little but the sun's side of the sky (the pole outside the field of view)
   // keeps the fit on every crossing.
   for (const double share : {1.0, 2.0 / 3.0, 1.0 / 3.0}) {
     if (!(params.sun_exclusion_deg > 0)) break;
     const auto away = refit_away_from_sun(pts, radial.n, plane.n, cp.plane_normal,
-                                          share * params.sun_exclusion_deg * kDeg, params.min_points);
+                                          share * params.sun_exclusion_deg * kRadPerDeg, params.min_points);
     if (!away) continue;
     cp.radial_normal = away->n.dot(cp.radial_normal) < 0 ? Eigen::Vector3d(-away->n) : away->n;
     cp.radial_points = away->inliers;
-    cp.radial_rms_deg = away->rms / kDeg;
+    cp.radial_rms_deg = away->rms / kRadPerDeg;
     break;
   }
   cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
@@ -330,7 +328,7 @@ double normal_span_deg(const std::vector<Eigen::Vector3d>& n, const std::vector<
   std::sort(ang.begin(), ang.end());
   double gap = ang.front() + 2 * kPi - ang.back();
   for (std::size_t k = 1; k < ang.size(); ++k) gap = std::max(gap, ang[k] - ang[k - 1]);
-  return (2 * kPi - gap) / kDeg;
+  return (2 * kPi - gap) / kRadPerDeg;
 }
 
 }  // namespace
@@ -421,7 +419,7 @@ GreatCirclePairs great_circle_pairs(const SkyView& view, const GreatCircleParams
     const PlaneFit& plane = &radial == &(*planes)[0] ? (*planes)[1] : (*planes)[0];
     cp.radial_normal = hyp.radial_normal;
     cp.plane_normal = hyp.plane_normal;
-    cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
+    cp.sun_separation_deg = 2 * hyp.half_separation / kRadPerDeg;
     cp.hypothesis_ratio = hyp.ratio;
     set_circles(cp, pts, radial, plane, params);
     if (out.sectors > 0) out.crossings[k] = std::move(pts);
@@ -464,12 +462,12 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
       half_step = 0.5 * kHourAngleRate * (sky.times_s[static_cast<std::size_t>(c.j)] -
                                           sky.times_s[static_cast<std::size_t>(c.i)]);
     else
-      half_step = 0.5 * c.sun_separation_deg * kDeg;
+      half_step = 0.5 * c.sun_separation_deg * kRadPerDeg;
     half_step = std::clamp(half_step, 1e-9, 0.5 * kPi - 1e-3);
     normals.push_back(c.radial_normal);
     g.push_back(half_step / std::sin(half_step));
     // Normal precision ∝ rms / √points; floor the rms so noise-free fits weigh alike.
-    const double rms = std::max(c.radial_rms_deg * kDeg, 1e-4);
+    const double rms = std::max(c.radial_rms_deg * kRadPerDeg, 1e-4);
     w.push_back(static_cast<double>(c.radial_points) / (rms * rms));
     index.push_back(k);
   }
@@ -542,7 +540,7 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
   result.estimate = make_estimate(method, sky, ncp, params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + source;
-  result.estimate.residual_deg = std::asin(std::min(1.0, fit.rms)) / kDeg;
+  result.estimate.residual_deg = std::asin(std::min(1.0, fit.rms)) / kRadPerDeg;
   result.estimate.seconds = seconds();
   if (params.keep_circles) result.circles = circles;
   return result;

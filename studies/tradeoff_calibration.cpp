@@ -33,6 +33,7 @@
 #include "sky/aerosol_types.h"
 #include "sky/sky_spec.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "skypole/cloud_share.h"
 #include "skypole/estimate.h"
 #include "skypole/sky_images.h"
@@ -45,7 +46,6 @@
 namespace skypol::studies::tradeoff {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr double kLieDeg = 5.0;    // an answer this far off, while valid, is a lie
 constexpr double kLieSigma = 5.0;  // … or this many of its own σ off
 
@@ -71,7 +71,7 @@ struct Draw {
 };
 
 double sun_elevation_deg(const sky::Site& site, double unix_s) {
-  return sky::sun_position(site, sky::Instant{unix_s}).elevation / kDeg;
+  return sky::sun_position(site, sky::Instant{unix_s}).elevation / kRadPerDeg;
 }
 
 // What a population draws from (StudyOptions::population). "mixed": sites within 70° of the
@@ -186,8 +186,8 @@ std::shared_ptr<const camera::Camera> make_camera(const Draw& d, int binning) {
   spec.model = d.lens;
   spec.width = sp.width / binning;
   spec.height = sp.height / binning;
-  const double theta_max = (d.lens == "orthographic" ? 90.0 : 92.5) * kDeg;
-  spec.fov_deg = 2 * theta_max / kDeg;
+  const double theta_max = (d.lens == "orthographic" ? 90.0 : 92.5) * kRadPerDeg;
+  spec.fov_deg = 2 * theta_max / kRadPerDeg;
   // The image circle just inside the sensor's height.
   const double r = 0.49 * spec.height;
   if (d.lens == "equidistant") spec.fx = r / theta_max;
@@ -418,7 +418,7 @@ void study_calibration(const StudyOptions& o) {
           .set("is_north", e.is_north);
       // The raw jackknife covariances (uncertainty.h; deg², axes azimuth and altitude), so that
       // scripts/calibration_tune.py can try any factors on them without running anything again.
-      const double d2 = 1.0 / (kDeg * kDeg);
+      const double d2 = 1.0 / (kRadPerDeg * kRadPerDeg);
       const Eigen::Matrix2d& cf = e.jackknife_frames_rad2;
       const Eigen::Matrix2d& cs = e.jackknife_sectors_rad2;
       // The answer's offset from the true NCP in the tangent plane there (azimuth and altitude axes of
@@ -426,11 +426,11 @@ void study_calibration(const StudyOptions& o) {
       // the 6-digit truth columns cannot do for errors of 0.001°.
       skypole::PoleEstimate truth_pole;
       {
-        const double h = -d.heading * kDeg, lat = d.site.latitude_deg * kDeg;
+        const double h = -d.heading * kRadPerDeg, lat = d.site.latitude_deg * kRadPerDeg;
         truth_pole.pole_level = Eigen::Vector3d(std::sin(h) * std::cos(lat), std::cos(h) * std::cos(lat), std::sin(lat));
         truth_pole.is_north = true;
       }
-      const Eigen::Vector2d off = skypole::tangent_offset(truth_pole, e) / kDeg;
+      const Eigen::Vector2d off = skypole::tangent_offset(truth_pole, e) / kRadPerDeg;
       rows.set("offset_az_deg", off.x()).set("offset_alt_deg", off.y());
       rows.set("sigma_frames_deg", skypole::sigma_deg_of(cf))
           .set("frame_groups", e.jackknife_frame_groups)

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "sky/units.h"
 #include "skypole/sky_images.h"
 #include "skypole/stack_sky.h"
 #include "skypole/sun_vector.h"
@@ -67,7 +68,7 @@ TEST_CASE("the sky memo keeps robust and plain sun fits of one sky apart", "[sky
   stack::Stack stack = testing::make_stack(testing::paper_day(64, 0, 0.0));
   const Eigen::Vector3d centre = Eigen::Vector3d(0.5, 0.3, 0.8).normalized();
   testing::veil_disc(stack, centre, 25, [](std::size_t, const Eigen::Vector3d&, float&, float& aolp) {
-    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * std::numbers::pi / 180, std::numbers::pi));
+    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + rad_from_deg(40), std::numbers::pi));
   });
   skypole::InputOptions input;
   input.sky_mask = false;  // the memo's sky keeps the veil
