@@ -33,29 +33,6 @@ const std::vector<std::string>& calibrated_keys() {
   return keys;
 }
 
-// A TOML basic string holding any text (the calibration file inline in a stack header).
-std::string toml_quoted(const std::string& text) {
-  std::string out = "\"";
-  for (unsigned char ch : text) {
-    switch (ch) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (ch < 0x20 || ch == 0x7f) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04X", ch);
-          out += buf;
-        } else {
-          out += static_cast<char>(ch);
-        }
-    }
-  }
-  return out + "\"";
-}
-
 // Whether `text` is UTF-8 (TOML's strings must be, and the description carries the text).
 bool is_utf8(const std::string& text) {
   for (std::size_t i = 0; i < text.size();) {
