@@ -96,9 +96,7 @@ float difference_noise(const std::vector<float>& fa, const std::vector<float>& f
       d.push_back(std::abs(static_cast<double>(fa[j] - fb[j]) - static_cast<double>(fa[i] - fb[i])));
     }
   if (d.empty()) return 0.0f;
-  const auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
-  std::nth_element(d.begin(), mid, d.end());
-  return static_cast<float>(1.4826 * *mid / std::sqrt(2.0));
+  return static_cast<float>(1.4826 * quantile(std::move(d), 0.5, QuantileRank::upper) / std::sqrt(2.0));
 }
 
 }  // namespace

@@ -23,13 +23,6 @@ namespace {
 
 using Crossing = CircleCrossing;
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
 double tukey(double r, double c) {
   const double u = r / c;
   return std::abs(u) >= 1 ? 0.0 : (1 - u * u) * (1 - u * u);
@@ -113,7 +106,7 @@ std::optional<std::array<PlaneFit, 2>> fit_plane_pair(const std::vector<Crossing
       if (members[k].size() < 3) return std::nullopt;
       std::vector<double> absr(r[k].size());
       for (std::size_t t = 0; t < r[k].size(); ++t) absr[t] = std::abs(r[k][t]);
-      const double sigma = std::max(1.4826 * median(absr), 1e-7);
+      const double sigma = std::max(1.4826 * quantile(absr, 0.5, QuantileRank::upper), 1e-7);
       const double cut = 4.685 * sigma;
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
       int inl = 0;
@@ -156,7 +149,7 @@ std::optional<PlaneFit> refit_away_from_sun(const std::vector<Crossing>& pts, co
   for (int iter = 0; iter < 6; ++iter) {
     std::vector<double> absr(members.size());
     for (std::size_t t = 0; t < members.size(); ++t) absr[t] = std::abs(fit.n.dot(members[t]->p));
-    const double cut = 4.685 * std::max(1.4826 * median(absr), 1e-7);
+    const double cut = 4.685 * std::max(1.4826 * quantile(absr, 0.5, QuantileRank::upper), 1e-7);
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     int inl = 0;
     double sq = 0;
@@ -305,7 +298,7 @@ PoleFit solve_pole(const std::vector<Eigen::Vector3d>& n, const std::vector<doub
     fit.kappa = drift && sg > 0 ? b.dot(fit.p) / sg : 0.0;
     std::vector<double> absr(n.size());
     for (std::size_t k = 0; k < n.size(); ++k) absr[k] = std::abs(n[k].dot(fit.p) - fit.kappa * g[k]);
-    const double sigma = std::max(1.4826 * median(absr), 2e-5);
+    const double sigma = std::max(1.4826 * quantile(absr, 0.5, QuantileRank::upper), 2e-5);
     double sw = 0, swr = 0;
     for (std::size_t k = 0; k < n.size(); ++k) {
       fit.weight[k] = base_w[k] * tukey(absr[k], 4.685 * sigma);

@@ -314,9 +314,19 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
   return v[k];
 }
 
-double quantile(std::vector<double> v, double q) {
+double quantile(std::vector<double> v, double q, QuantileRank rank) {
   if (v.empty()) return 0.0;
-  return nth_smallest(v, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1)));
+  const std::size_t n = v.size();
+  switch (rank) {
+    case QuantileRank::lower: return nth_smallest(v, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+    case QuantileRank::nearest: {
+      const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(n)));
+      return nth_smallest(v, std::clamp<std::size_t>(k, 1, n) - 1);
+    }
+    case QuantileRank::upper:
+      return nth_smallest(v, std::min(static_cast<std::size_t>(q * static_cast<double>(n)), n - 1));
+  }
+  return 0.0;
 }
 
 double nth_smallest(const std::vector<double>& v, std::size_t k) {

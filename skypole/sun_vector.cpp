@@ -157,9 +157,7 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
         const double c = s.dot(d_all[k]);
         r[k] = std::abs(p * (1 - c * c) / (1 + c * c) - v_all[k]);
       }
-      std::vector<double> sorted = r;
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-      const double cut = std::max(kMinCut, 3 * 1.4826 * sorted[sorted.size() / 2]);
+      const double cut = std::max(kMinCut, 3 * 1.4826 * quantile(r, 0.5, QuantileRank::upper));
       d.clear();
       v.clear();
       for (std::size_t k = 0; k < d_all.size(); ++k)

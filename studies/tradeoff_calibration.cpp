@@ -449,10 +449,7 @@ void study_calibration(const StudyOptions& o) {
     if (++scenes_run % 10 == 0) rows.write(partial.string());
   }
   const auto quantile = [](std::vector<double> v, double q) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-    return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
+    return v.empty() ? std::nan("") : skypole::quantile(std::move(v), q, skypole::QuantileRank::nearest);
   };
   const std::vector<std::string> skies = {"rayleigh", "berry", "vrte"};
   Table summary({"method", "stacks", "valid", "yield", "lies", "lie_rate", "inside_cone", "coverage",

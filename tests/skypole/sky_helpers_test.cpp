@@ -62,6 +62,19 @@ TEST_CASE("nth_smallest is std::nth_element's answer on signed data of every mag
   CHECK(skypole::quantile(neg, 0.5) == by_nth_element(neg, (neg.size() - 1) / 2));
 }
 
+TEST_CASE("quantile's rank conventions pick the elements their definitions name", "[skypole][quantile]") {
+  const std::vector<double> v = {7, 1, 5, 3, 9, 2, 8, 4, 6, 10};  // 1..10, shuffled
+  using skypole::QuantileRank;
+  CHECK(skypole::quantile(v, 0.5) == 5);                          // ⌊0.5·9⌋ = rank 4
+  CHECK(skypole::quantile(v, 0.5, QuantileRank::upper) == 6);     // v[10 / 2]
+  CHECK(skypole::quantile(v, 0.5, QuantileRank::nearest) == 5);   // ⌈5⌉ − 1 = rank 4
+  CHECK(skypole::quantile(v, 0.95) == 9);                         // ⌊8.55⌋ = rank 8
+  CHECK(skypole::quantile(v, 0.95, QuantileRank::nearest) == 10); // ⌈9.5⌉ − 1 = rank 9
+  CHECK(skypole::quantile(v, 1.0, QuantileRank::upper) == 10);    // ⌊10⌋ capped at rank 9
+  CHECK(skypole::quantile(v, 0.0, QuantileRank::nearest) == 1);   // ⌈0⌉ raised to rank 0
+  CHECK(skypole::quantile({}, 0.5, QuantileRank::nearest) == 0);
+}
+
 TEST_CASE("the sky memo keeps robust and plain sun fits of one sky apart", "[skypole][sky_memo]") {
   // A sky whose AoLP is turned by 40° inside a disc, in every frame: the robust fit sets those
   // pixels aside, the plain least squares is pulled by them, so the two suns differ.
