@@ -10,6 +10,7 @@
 #include "camera/colmap_import.h"
 #include "camera/detail/yaml_tree.h"
 #include "camera/ocam_lens.h"
+#include "sky/units.h"
 
 namespace skypol::camera {
 namespace {
@@ -393,7 +394,7 @@ void fit_fov_to_sensor(LensSpec& s) {
       if (!d) return void(s.fov_deg = lo);
       theta = std::max(theta, std::atan2(std::hypot(d->x(), d->y()), d->z()));
     }
-  s.fov_deg = std::min(lo, 2 * theta * 180 / std::numbers::pi);
+  s.fov_deg = std::min(lo, deg_from_rad(2 * theta));
 }
 
 void fit_fov_to_image_circle(LensSpec& s, double radius_px) {
@@ -404,13 +405,13 @@ void fit_fov_to_image_circle(LensSpec& s, double radius_px) {
   const Intrinsics& k = lens->intrinsics();
   // The smallest angle off the axis at the circle, every 0.5° around it (a pixel without a ray
   // lies past the model's own limit, which then bounds the field).
-  double theta = std::min(lo / 2 * std::numbers::pi / 180, lens->max_field_angle());
+  double theta = std::min(rad_from_deg(lo / 2), lens->max_field_angle());
   for (int a = 0; a < 720; ++a) {
     const double phi = a * std::numbers::pi / 360;
     const auto d = lens->ray({k.cx + radius_px * std::cos(phi), k.cy + radius_px * std::sin(phi)});
     if (d) theta = std::min(theta, std::atan2(std::hypot(d->x(), d->y()), d->z()));
   }
-  s.fov_deg = 2 * theta * 180 / std::numbers::pi;
+  s.fov_deg = deg_from_rad(2 * theta);
 }
 
 }  // namespace skypol::camera

@@ -2,6 +2,7 @@
 #include "camera/camera.h"
 
 #include "camera/detail/ray_kernels.h"
+#include "sky/units.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -83,9 +84,8 @@ double Camera::sensor_angle(const CameraRay& ray, double angle) const {
   // fall back to the meridional one (documented rule; that light gives no modulation anyway).
   if (std::hypot(e_cam.x(), e_cam.y()) < 1e-12) return angle;
   double a = std::atan2(e_cam.y(), e_cam.x());
-  constexpr double kHalfPi = std::numbers::pi / 2;
-  if (a > kHalfPi) a -= std::numbers::pi;
-  if (a <= -kHalfPi) a += std::numbers::pi;
+  if (a > kPi / 2) a -= kPi;
+  if (a <= -kPi / 2) a += kPi;
   return a;
 }
 

@@ -12,6 +12,7 @@
 
 #include "camera/calibration_import.h"
 #include "camera/kannala_brandt.h"
+#include "sky/units.h"
 
 namespace skypol::camera {
 
@@ -109,7 +110,7 @@ LensSpec lens_spec_from_colmap(std::string_view line) {
     theta = d ? std::atan2(std::hypot(d->x(), d->y()), d->z()) : lens.max_field_angle();
     s.clamp_fov_to_monotone = true;
   }
-  s.fov_deg = 2 * theta * 180 / std::numbers::pi;
+  s.fov_deg = deg_from_rad(2 * theta);
   return s;
 }
 

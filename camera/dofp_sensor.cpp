@@ -10,6 +10,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sky/units.h"
+
 namespace skypol::camera {
 
 namespace {
@@ -23,8 +25,6 @@ void for_each_row(int height, RowFn&& row) {
 }
 }  // namespace
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 // SplitMix64's finalizer (Steele, Lea, Flood 2014): a bijective 64-bit mixer, good enough to turn
 // (seed, frame, pixel, draw) counters into independent uniform bits.
@@ -131,7 +131,7 @@ double metered_exposure_us(const DofpSensor& s, const AutoExposure& m, double sk
 
 double polarizer_radiance(const DofpSensor& s, int row, int col, double s0, double s1, double s2) {
   const int i = mosaic_index(row, col);
-  const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;
+  const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kRadPerDeg;
   const double tmin = 1 / s.extinction_ratio;  // Tmax = 1
   return 0.5 * ((1 + tmin) * s0 + (1 - tmin) * (s1 * std::cos(2 * th) + s2 * std::sin(2 * th)));
 }
@@ -203,7 +203,7 @@ std::array<std::array<double, 4>, 3> analyzer_inverse(const DofpSensor& s) {
   const double tmin = 1 / s.extinction_ratio;
   std::array<std::array<double, 3>, 4> a{};
   for (int i = 0; i < 4; ++i) {
-    const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kDeg;
+    const double th = (s.mosaic_deg[i] + s.angle_error_deg[i]) * kRadPerDeg;
     a[i] = {0.5 * (1 + tmin), 0.5 * (1 - tmin) * std::cos(2 * th), 0.5 * (1 - tmin) * std::sin(2 * th)};
   }
   double ata[3][3] = {};

@@ -9,6 +9,7 @@
 
 #include "camera/detail/radial_util.h"
 #include "camera/detail/ray_table.h"
+#include "sky/units.h"
 
 namespace skypol::camera {
 
@@ -17,7 +18,7 @@ EucmLens::EucmLens(Intrinsics intrinsics, double alpha, double beta, double max_
   detail::check_intrinsics(k_);
   if (!(std::isfinite(alpha_) && alpha_ >= 0 && alpha_ <= 1)) throw std::invalid_argument("alpha must be in [0, 1]");
   if (!(std::isfinite(beta_) && beta_ > 0)) throw std::invalid_argument("beta must be > 0");
-  if (!(std::isfinite(theta_max_) && theta_max_ > 0 && theta_max_ < 3.14159265358979323846))
+  if (!(std::isfinite(theta_max_) && theta_max_ > 0 && theta_max_ < kPi))
     throw std::invalid_argument("field of view must be in (0, 360)");
   // The radius must rise (with a positive denominator) over the whole declared field.
   double prev = 0;

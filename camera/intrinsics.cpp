@@ -6,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sky/units.h"
+
 namespace skypol::camera {
 
 Intrinsics intrinsics_from_mm(double focal_mm, double pitch_um, int width, int height) {
@@ -54,7 +56,7 @@ ImageCircle image_circle(const Lens& lens) {
   for (int i = 0; i < kRing; ++i)
     if (const auto p = lens.project(dir(tmax, 2 * std::numbers::pi * i / kRing)))
       c.radius_px = std::max(c.radius_px, (*p - c.centre).norm());
-  c.max_fov_deg = 2 * tmax * 180 / std::numbers::pi;
+  c.max_fov_deg = deg_from_rad(2 * tmax);
   c.fits_on_sensor = ring_on_sensor(lens, tmax);
   double lo = 0, hi = tmax;
   if (c.fits_on_sensor) {
@@ -65,7 +67,7 @@ ImageCircle image_circle(const Lens& lens) {
       (ring_on_sensor(lens, mid) ? lo : hi) = mid;
     }
   }
-  c.full_circle_fov_deg = 2 * lo * 180 / std::numbers::pi;
+  c.full_circle_fov_deg = deg_from_rad(2 * lo);
   return c;
 }
 

@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sky/units.h"
+
 namespace skypol::camera {
 
 std::shared_ptr<const Lens> Lens::rescaled(double /*s*/) const {
@@ -28,7 +30,7 @@ std::vector<std::pair<std::string, double>> Lens::parameters() const {
           {"cy", k.cy},
           {"width", k.width},
           {"height", k.height},
-          {"fov_deg", 2 * max_field_angle() * 180 / std::numbers::pi}};
+          {"fov_deg", deg_from_rad(2 * max_field_angle())}};
 }
 
 }  // namespace skypol::camera

@@ -14,6 +14,7 @@
 
 #include "camera/detail/radial_util.h"
 #include "camera/detail/ray_table.h"
+#include "sky/units.h"
 
 namespace skypol::camera {
 namespace {
@@ -271,7 +272,7 @@ std::vector<std::pair<std::string, double>> OCamLens::parameters() const {
   for (std::size_t i = 0; i < m_.invpol.size(); ++i) p.emplace_back(key('p', i), m_.invpol[i]);
   for (auto [name, v] : {std::pair<const char*, double>{"xc", m_.xc}, {"yc", m_.yc}, {"c", m_.c},
                          {"d", m_.d}, {"e", m_.e}, {"height", m_.height}, {"width", m_.width},
-                         {"fov_deg", 2 * theta_max_ * 180 / std::numbers::pi}})
+                         {"fov_deg", deg_from_rad(2 * theta_max_)}})
     p.emplace_back(name, v);
   return p;
 }

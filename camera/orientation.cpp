@@ -6,10 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "sky/units.h"
+
 namespace skypol::camera {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 Eigen::Matrix3d rot_x(double a) {
   return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()).toRotationMatrix();
@@ -28,7 +28,7 @@ Eigen::Matrix3d zenith_north_up() {
 }
 
 double azimuth_deg(double east, double north) {
-  double a = std::atan2(east, north) / kDeg;
+  double a = std::atan2(east, north) / kRadPerDeg;
   if (a < 0) a += 360.0;
   if (a >= 360.0) a -= 360.0;  // -0.0 + 360 rounding
   return a;
@@ -41,8 +41,8 @@ Eigen::Matrix3d world_from_heading_tilt_roll(double heading_deg, double tilt_deg
   if (!std::isfinite(roll_deg)) throw std::invalid_argument("roll_deg must be finite");
   if (!std::isfinite(tilt_deg) || tilt_deg < 0 || tilt_deg > 180)
     throw std::invalid_argument("tilt_deg must be in [0, 180], got " + std::to_string(tilt_deg));
-  return rot_z(-heading_deg * kDeg) * zenith_north_up() * rot_x(tilt_deg * kDeg) *
-         rot_z(roll_deg * kDeg);
+  return rot_z(-heading_deg * kRadPerDeg) * zenith_north_up() * rot_x(tilt_deg * kRadPerDeg) *
+         rot_z(roll_deg * kRadPerDeg);
 }
 
 Eigen::Matrix3d world_from_quaternion(double w, double x, double y, double z) {

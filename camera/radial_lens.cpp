@@ -11,11 +11,10 @@
 #include <string>
 
 #include "camera/detail/radial_util.h"
+#include "sky/units.h"
 
 namespace skypol::camera {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 struct MappingInfo {
   Mapping mapping;
@@ -62,8 +61,8 @@ RadialLens::RadialLens(Mapping mapping, Intrinsics intrinsics, double max_field_
   if (!ok)
     throw std::invalid_argument(
         "field of view out of range for the " + std::string(i.name) + " mapping: half-angle " +
-        std::to_string(theta_max_ * 180 / kPi) + "° (must be > 0 and " +
-        (i.limit_inclusive ? "<= " : "< ") + std::to_string(i.theta_limit * 180 / kPi) + "°)");
+        std::to_string(deg_from_rad(theta_max_)) + "° (must be > 0 and " +
+        (i.limit_inclusive ? "<= " : "< ") + std::to_string(deg_from_rad(i.theta_limit)) + "°)");
 }
 
 std::string RadialLens::name() const { return std::string(mapping_name(mapping_)); }

@@ -10,13 +10,14 @@
 #include <string>
 
 #include "camera/detail/radial_util.h"
+#include "sky/units.h"
 
 namespace skypol::camera {
 
 HeightTable height_table_from_deg_mm(const std::vector<std::pair<double, double>>& deg_mm) {
   HeightTable t;
   for (const auto& [deg, mm] : deg_mm) {
-    t.theta.push_back(deg * std::numbers::pi / 180);
+    t.theta.push_back(rad_from_deg(deg));
     t.height.push_back(mm);
   }
   return t;
@@ -148,7 +149,7 @@ std::vector<std::pair<std::string, double>> TabulatedLens::parameters() const {
     std::string angle_key = "theta_deg_", height_key = "height_";
     angle_key += std::to_string(i);
     height_key += std::to_string(i);
-    p.emplace_back(angle_key, t_.theta[i] * 180 / std::numbers::pi);
+    p.emplace_back(angle_key, deg_from_rad(t_.theta[i]));
     p.emplace_back(height_key, t_.height[i]);
   }
   return p;

@@ -8,14 +8,13 @@
 
 #include "cli/commands.h"
 #include "scene/scene.h"
+#include "sky/units.h"
 
 namespace skypol::cli {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180;
-
 Eigen::Vector3d enu_of(double azimuth_deg, double elevation_deg) {
-  const double az = azimuth_deg * kDeg, el = elevation_deg * kDeg;
+  const double az = azimuth_deg * kRadPerDeg, el = elevation_deg * kRadPerDeg;
   return {std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)};
 }
 
@@ -51,12 +50,12 @@ Row pixel_row(const camera::Camera& cam, double u, double v) {
   if (!ray) return r;
   r.found = true;
   const Eigen::Vector3d d = ray->d.cast<double>();
-  r.el = std::asin(std::clamp(d.z(), -1.0, 1.0)) / kDeg;
-  r.az = std::atan2(d.x(), d.y()) / kDeg;
+  r.el = std::asin(std::clamp(d.z(), -1.0, 1.0)) / kRadPerDeg;
+  r.az = std::atan2(d.x(), d.y()) / kRadPerDeg;
   if (r.az < 0) r.az += 360;
   if (std::hypot(d.x(), d.y()) < 1e-12) r.az = 0;  // the zenith's azimuth is 0 by convention
   const Eigen::Vector3d dc = cam.world_from_camera().transpose() * d;
-  r.off_axis = std::acos(std::clamp(dc.z(), -1.0, 1.0)) / kDeg;
+  r.off_axis = std::acos(std::clamp(dc.z(), -1.0, 1.0)) / kRadPerDeg;
   return r;
 }
 
@@ -147,7 +146,7 @@ void add_lens(CLI::App& app) {
                   "\"cy\": %s, \"fov_deg\": %s,\n \"heading_deg\": %s, \"tilt_deg\": %s, \"roll_deg\": %s,\n "
                   "\"answers\": [",
                   cam->lens().name().c_str(), k.width, k.height, g17(k.fx).c_str(), g17(k.fy).c_str(),
-                  g17(k.cx).c_str(), g17(k.cy).c_str(), g17(2 * cam->lens().max_field_angle() / kDeg).c_str(),
+                  g17(k.cx).c_str(), g17(k.cy).c_str(), g17(2 * cam->lens().max_field_angle() / kRadPerDeg).c_str(),
                   g17(scene.camera.heading_deg).c_str(), g17(scene.camera.tilt_deg).c_str(),
                   g17(scene.camera.roll_deg).c_str());
       for (std::size_t i = 0; i < rows.size(); ++i) std::printf("%s\n  %s", i ? "," : "", row_json(rows[i]).c_str());
@@ -156,7 +155,7 @@ void add_lens(CLI::App& app) {
     }
     std::printf("camera   %s, %dx%d px, fx %.4f fy %.4f, centre (%.4f, %.4f), field of view %.3f deg\n",
                 cam->lens().name().c_str(), k.width, k.height, k.fx, k.fy, k.cx, k.cy,
-                2 * cam->lens().max_field_angle() / kDeg);
+                2 * cam->lens().max_field_angle() / kRadPerDeg);
     std::printf("heading %.3f tilt %.3f roll %.3f deg\n", scene.camera.heading_deg, scene.camera.tilt_deg,
                 scene.camera.roll_deg);
     for (const Row& r : rows) print_row(r);

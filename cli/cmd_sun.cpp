@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 
 namespace skypol::cli {
 
@@ -36,17 +37,16 @@ void add_sun(CLI::App& app) {
     a->options.refraction = sky::parse_refraction(a->refraction);
     const sky::Instant t = sky::parse_iso8601(a->time);
     const sky::Sun s = sky::sun_position(a->site, t, a->options);
-    constexpr double deg = 180 / std::numbers::pi;
     std::printf("time          %s\n", sky::format_iso8601(t).c_str());
     std::printf("site          %.6f N  %.6f E  %.1f m\n", a->site.latitude_deg, a->site.longitude_deg, a->site.height_m);
-    std::printf("azimuth       %.6f deg (from North towards East)\n", s.azimuth * deg);
+    std::printf("azimuth       %.6f deg (from North towards East)\n", s.azimuth * kDegPerRad);
     const std::string refracted = a->options.pressure_hpa > 0
                                       ? " (refracted, " + std::string(sky::refraction_name(a->options.refraction)) + ")"
                                       : " (no refraction)";
-    std::printf("elevation     %.6f deg%s\n", s.elevation * deg, refracted.c_str());
-    std::printf("zenith angle  %.6f deg\n", 90 - s.elevation * deg);
-    std::printf("declination   %.6f deg\n", s.declination * deg);
-    std::printf("hour angle    %.6f deg\n", s.hour_angle * deg);
+    std::printf("elevation     %.6f deg%s\n", s.elevation * kDegPerRad, refracted.c_str());
+    std::printf("zenith angle  %.6f deg\n", 90 - s.elevation * kDegPerRad);
+    std::printf("declination   %.6f deg\n", s.declination * kDegPerRad);
+    std::printf("hour angle    %.6f deg\n", s.hour_angle * kDegPerRad);
     std::printf("direction ENU (%.9f, %.9f, %.9f)\n", s.direction.x(), s.direction.y(), s.direction.z());
   });
 }

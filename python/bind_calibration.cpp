@@ -16,13 +16,12 @@
 
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "sky/units.h"
 #include "skypole/method_registry.h"
 #include "skypole/uncertainty.h"
 
 namespace skypol::python {
 namespace {
-
-constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 

@@ -17,11 +17,11 @@
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 
 namespace skypol::python {
 namespace {
 
-constexpr double kDeg = 180 / std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
@@ -54,9 +54,9 @@ py::dict rays(const camera::Camera& cam, const Doubles& u, const Doubles& v) {
       return;
     }
     for (int k = 0; k < 3; ++k) pd[3 * i + k] = r->d(k);
-    pa[i] = sky::azimuth_of(r->d) * kDeg;  // 0 at the zenith (sky/sun.h's rule)
-    pe[i] = sky::elevation_of(r->d) * kDeg;
-    po[i] = std::acos(std::clamp((camera_from_world * r->d).z(), -1.0, 1.0)) * kDeg;
+    pa[i] = sky::azimuth_of(r->d) * kDegPerRad;  // 0 at the zenith (sky/sun.h's rule)
+    pe[i] = sky::elevation_of(r->d) * kDegPerRad;
+    po[i] = std::acos(std::clamp((camera_from_world * r->d).z(), -1.0, 1.0)) * kDegPerRad;
   });
   py::dict out;
   out["direction"] = dir;
@@ -116,7 +116,7 @@ void bind_camera(py::module_& m) {
                                return d;
                              })
       .def_property_readonly("parameters", [](const camera::Camera& c) { return c.lens().parameters(); })
-      .def_property_readonly("field_of_view_deg", [](const camera::Camera& c) { return 2 * c.lens().max_field_angle() * kDeg; })
+      .def_property_readonly("field_of_view_deg", [](const camera::Camera& c) { return 2 * c.lens().max_field_angle() * kDegPerRad; })
       .def_property_readonly("world_from_camera", [](const camera::Camera& c) { return to_array(c.world_from_camera()); })
       .def_property_readonly("transport",
                              [](const camera::Camera& c) {

@@ -11,11 +11,11 @@
 #include "python/sun_table.h"
 #include "sky/sun.h"
 #include "sky/time.h"
+#include "sky/units.h"
 
 namespace skypol::python {
 
 py::dict sun_table(const sky::Site& site, const sky::SunOptions& options, const Seconds& unix_seconds) {
-  constexpr double kDeg = 180 / std::numbers::pi;
   const py::ssize_t n = unix_seconds.size();
   py::array_t<double> az(n), el(n), dec(n), ha(n), dir({n, py::ssize_t{3}});
   auto t = unix_seconds.unchecked<1>();
@@ -26,10 +26,10 @@ py::dict sun_table(const sky::Site& site, const sky::SunOptions& options, const 
     py::gil_scoped_release release;
     for (py::ssize_t i = 0; i < n; ++i) {
       const sky::Sun s = sky::sun_position(site, instant_of(t(i)), options);
-      a(i) = s.azimuth * kDeg;
-      e(i) = s.elevation * kDeg;
-      d(i) = s.declination * kDeg;
-      h(i) = s.hour_angle * kDeg;
+      a(i) = s.azimuth * kDegPerRad;
+      e(i) = s.elevation * kDegPerRad;
+      d(i) = s.declination * kDegPerRad;
+      h(i) = s.hour_angle * kDegPerRad;
       for (py::ssize_t k = 0; k < 3; ++k) v(i, k) = s.direction(k);
     }
   }

@@ -7,10 +7,10 @@
 #include <stdexcept>
 
 #include "scene/scene_error.h"
+#include "sky/units.h"
 
 namespace skypol::python {
 namespace {
-constexpr double kDeg = 180 / std::numbers::pi;
 
 py::object none_or(const std::optional<double>& v) { return v ? py::object(py::float_(*v)) : py::object(py::none()); }
 
@@ -39,10 +39,10 @@ py::object optional_pixel(const std::optional<Eigen::Vector2d>& pixel) {
 
 py::dict truth_to_dict(const scene::Truth& t) {
   py::dict sun;
-  sun["azimuth_deg"] = t.sun.azimuth * kDeg;
-  sun["elevation_deg"] = t.sun.elevation * kDeg;
-  sun["declination_deg"] = t.sun.declination * kDeg;
-  sun["hour_angle_deg"] = t.sun.hour_angle * kDeg;
+  sun["azimuth_deg"] = t.sun.azimuth * kDegPerRad;
+  sun["elevation_deg"] = t.sun.elevation * kDegPerRad;
+  sun["declination_deg"] = t.sun.declination * kDegPerRad;
+  sun["hour_angle_deg"] = t.sun.hour_angle * kDegPerRad;
   sun["direction"] = to_array(t.sun.direction);
   py::dict site;
   site["latitude_deg"] = t.site.latitude_deg;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "sky/units.h"
+
 namespace skypol::render {
 namespace {
 
@@ -11,13 +13,13 @@ constexpr double kMaxStepDeg = 0.5;
 constexpr double kToleranceDeg = 1e-4;
 
 Eigen::Vector3f enu(double azimuth_deg, double elevation_deg, double radius) {
-  const double az = azimuth_deg * std::numbers::pi / 180, el = elevation_deg * std::numbers::pi / 180;
+  const double az = rad_from_deg(azimuth_deg), el = rad_from_deg(elevation_deg);
   return (radius * Eigen::Vector3d(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)))
       .cast<float>();
 }
 
-double elevation_deg_of(const Eigen::Vector3d& v) { return std::atan2(v.z(), std::hypot(v.x(), v.y())) * 180 / std::numbers::pi; }
-double azimuth_deg_of(const Eigen::Vector3d& v) { return std::atan2(v.x(), v.y()) * 180 / std::numbers::pi; }
+double elevation_deg_of(const Eigen::Vector3d& v) { return deg_from_rad(std::atan2(v.z(), std::hypot(v.x(), v.y()))); }
+double azimuth_deg_of(const Eigen::Vector3d& v) { return deg_from_rad(std::atan2(v.x(), v.y())); }
 
 }  // namespace
 
@@ -80,7 +82,7 @@ scene::TriangleMesh horizon_mesh(const std::vector<scene::HorizonPoint>& profile
   const auto m = static_cast<std::uint32_t>(azimuths.size());
   for (double az : azimuths) mesh.vertices.push_back(enu(az, horizon_elevation_deg(profile, az), radius_m));
   for (double az : azimuths) mesh.vertices.push_back(enu(az, floor_deg, radius_m));
-  mesh.vertices.emplace_back(0.0f, 0.0f, static_cast<float>(radius_m * std::sin(floor_deg * std::numbers::pi / 180)));
+  mesh.vertices.emplace_back(0.0f, 0.0f, static_cast<float>(radius_m * std::sin(rad_from_deg(floor_deg))));
   for (std::uint32_t i = 0; i < m; ++i) {
     const std::uint32_t j = (i + 1) % m;
     mesh.triangles.push_back({i, j, m + i});          // wall

@@ -3,10 +3,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "sky/units.h"
+
 namespace skypol::scene {
 
 Eigen::Matrix3d yaw_rotation(double yaw_deg) {
-  const double t = yaw_deg * std::numbers::pi / 180, c = std::cos(t), s = std::sin(t);
+  const double t = rad_from_deg(yaw_deg), c = std::cos(t), s = std::sin(t);
   Eigen::Matrix3d r;
   // East (1,0,0) goes to (c, −s, 0) and North (0,1,0) to (s, c, 0): clockwise seen from above.
   r << c, s, 0, -s, c, 0, 0, 0, 1;

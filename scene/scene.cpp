@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "scene/output_defaults.h"
+#include "sky/units.h"
 
 namespace skypol::scene {
 namespace {
@@ -78,7 +79,7 @@ void require_daylight(const Scene& scene, const Fields& time) {
   // loads every variant's scene.
   double highest = -90;
   for (sky::Instant t : scene.times) {
-    highest = std::max(highest, sky::sun_position(scene.site, t, scene.sun_options).elevation * 180 / std::numbers::pi);
+    highest = std::max(highest, deg_from_rad(sky::sun_position(scene.site, t, scene.sun_options).elevation));
     if (highest >= 0) break;
   }
   if (highest < 0) {
@@ -170,6 +171,15 @@ std::vector<sky::Instant> read_times(Fields& t) {
 
 }  // namespace
 
+sky::Site read_site(Fields& site_table) {
+  sky::Site site;
+  site.latitude_deg = site_table.required_number("latitude_deg", -90, 90);
+  site.longitude_deg = site_table.required_number("longitude_deg", -180, 360);
+  site.height_m = site_table.number("height_m", 0, -1000, 1e5);
+  site_table.finish();
+  return site;
+}
+
 Scene scene_from_source(const SceneSource& source) {
   const std::string& file_name = source.file;
   Scene scene;
@@ -180,10 +190,7 @@ Scene scene_from_source(const SceneSource& source) {
 
   std::optional<Fields> site = top.table("site");
   if (!site) top.fail("site", "missing section [site] (latitude_deg, longitude_deg)");
-  scene.site.latitude_deg = site->required_number("latitude_deg", -90, 90);
-  scene.site.longitude_deg = site->required_number("longitude_deg", -180, 360);
-  scene.site.height_m = site->number("height_m", 0, -1000, 1e5);
-  site->finish();
+  scene.site = read_site(*site);
 
   if (std::optional<Fields> atm = top.table("atmosphere")) {
     scene.sun_options.pressure_hpa = atm->number("pressure_hpa", 0, 0, 1200);

@@ -91,6 +91,9 @@ Scene scene_from_source(const SceneSource& source);
 // file names in it (ocamcalib_path) resolve against the folder of Fields::file().
 CameraSpec read_camera(Fields& camera_table);
 CameraSpec parse_camera(const std::string& toml_text, const std::string& file_name);
+// The [site] section: latitude_deg, longitude_deg (required), height_m. The scene and a capture's
+// import file read it here, so both check the same ranges and name the same keys.
+sky::Site read_site(Fields& site_table);
 sky::SkySpec read_sky(Fields& sky_table);
 // What the sky's model asks of the rest of the scene (its bands, its site: sky::validate_for_scene),
 // as a SceneError at the [sky] key the check names.

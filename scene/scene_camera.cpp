@@ -11,11 +11,10 @@
 #include "camera/orientation.h"
 #include "camera/presets.h"
 #include "scene/scene.h"
+#include "sky/units.h"
 
 namespace skypol::scene {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 // The [camera] keys that a camera::make_lens message may name, in the order they are searched.
 const std::vector<std::string>& lens_keys() {
@@ -32,29 +31,6 @@ const std::vector<std::string>& calibrated_keys() {
                                              "focal_mm",    "pitch_um",      "fx",    "fy",    "cx",
                                              "cy",          "skew",          "coefficients", "table", "ocamcalib_path"};
   return keys;
-}
-
-// A TOML basic string holding any text (the calibration file inline in a stack header).
-std::string toml_quoted(const std::string& text) {
-  std::string out = "\"";
-  for (unsigned char ch : text) {
-    switch (ch) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      case '\r': out += "\\r"; break;
-      default:
-        if (ch < 0x20 || ch == 0x7f) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04X", ch);
-          out += buf;
-        } else {
-          out += static_cast<char>(ch);
-        }
-    }
-  }
-  return out + "\"";
 }
 
 // Whether `text` is UTF-8 (TOML's strings must be, and the description carries the text).
@@ -87,11 +63,11 @@ bool is_utf8(const std::string& text) {
 // world_from_heading_tilt_roll): tilt from the optical axis' elevation, heading from
 // camera::heading_deg_of, roll from what is left.
 void angles_of(const Eigen::Matrix3d& r, CameraSpec& s) {
-  s.tilt_deg = std::acos(std::clamp(r(2, 2), -1.0, 1.0)) / kDeg;
+  s.tilt_deg = std::acos(std::clamp(r(2, 2), -1.0, 1.0)) / kRadPerDeg;
   s.heading_deg = camera::heading_deg_of(r);
   const Eigen::Matrix3d without_roll = camera::world_from_heading_tilt_roll(s.heading_deg, s.tilt_deg, 0);
   const Eigen::Matrix3d roll = without_roll.transpose() * r;  // = Rz(ρ)
-  s.roll_deg = std::atan2(roll(1, 0), roll(0, 0)) / kDeg;
+  s.roll_deg = std::atan2(roll(1, 0), roll(0, 0)) / kRadPerDeg;
   if (std::abs(s.roll_deg) < 1e-12) s.roll_deg = 0;
 }
 

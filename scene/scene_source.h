@@ -68,5 +68,8 @@ toml::table parse_toml(const std::string& text, const std::string& file_name);
 std::string to_toml(const toml::table& table);
 // One value (a number, a string, an array, an inline table, a date) as TOML text.
 std::string to_toml_value(const toml::node& value);
+// `s` as a TOML basic string: " and \ escaped, \n \t \r by name, every other control character
+// (U+0000–U+001F, U+007F) as \u00xx; other bytes (UTF-8) kept.
+std::string toml_quoted(std::string_view s);
 
 }  // namespace skypol::scene

@@ -33,6 +33,7 @@
 #include <Eigen/Geometry>
 
 #include "sky/ray_block.h"
+#include "sky/units.h"
 
 namespace skypol::sky {
 
@@ -69,7 +70,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> BerrySky::neutral_points(const Sun& 
   horizontal = hn > 1e-12 ? Eigen::Vector3d(horizontal / hn)
                           : Eigen::Vector3d(std::sin(sun.azimuth), std::cos(sun.azimuth), 0.0);
   const Eigen::Vector3d up_tangent = Eigen::Vector3d::UnitZ() * hn - horizontal * s.z();
-  const double delta = params_.separation_deg * std::numbers::pi / 180.0;
+  const double delta = rad_from_deg(params_.separation_deg);
   const double c = std::cos(delta), n = std::sin(delta);
   return {(c * s + n * up_tangent).normalized(), (c * s - n * up_tangent).normalized()};
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "sky/noise.h"
+#include "sky/units.h"
 
 namespace skypol::sky {
 namespace {
@@ -53,7 +54,7 @@ CloudySky::CloudySky(std::unique_ptr<SkyModel> clear, CloudParams params)
   validate(params_);
   for (int o = 0; o < kOctaves; ++o) octaves_.emplace_back(octave_seed(params_.seed, o));
   // One lattice cell ≈ one cloud: a cell spans 1/frequency in direction space ≈ that many radians.
-  frequency_ = static_cast<float>(1.0 / (params_.scale_deg * std::numbers::pi / 180.0));
+  frequency_ = static_cast<float>(1.0 / rad_from_deg(params_.scale_deg));
   if (params_.coverage <= 0.0) {
     threshold_ = std::numeric_limits<float>::infinity();
   } else if (params_.coverage >= 1.0) {

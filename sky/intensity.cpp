@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "sky/ray_block.h"
+#include "sky/units.h"
 
 namespace skypol::sky {
 namespace {
@@ -51,7 +52,7 @@ float acos_approx(float x) {
   p = p * ax - 0.2145988016f;
   p = p * ax + 1.5707963050f;
   const float r = std::sqrt(1.0f - ax) * p;
-  return x < 0.0f ? 3.14159265f - r : r;
+  return x < 0.0f ? std::numbers::pi_v<float> - r : r;
 }
 
 // e^x = 2^n · 2^f with n = round(x·log2 e) (by the 1.5·2²³ trick) and 2^f, |f| ≤ ½, from its
@@ -155,7 +156,7 @@ void IntensitySky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::sp
         // where Perez's circumsolar term e^{Dγ} is steepest.
         const float ex = b.dx[j] - sx, ey = b.dy[j] - sy, ez = b.dz[j] - sz;
         const float half_chord = std::min(0.5f * std::sqrt(ex * ex + ey * ey + ez * ez), 1.0f);
-        const float gamma = 3.14159265f - 2.0f * acos_approx(half_chord);
+        const float gamma = std::numbers::pi_v<float> - 2.0f * acos_approx(half_chord);
         const float ct = std::max(b.dz[j], 1e-4f);
         radiance[j] = norm * (1.0f + pa * exp_approx(pb / ct)) * (1.0f + pc * exp_approx(pdd * gamma) + pe * c * c);
       }

@@ -8,12 +8,12 @@
 #include <string>
 #include <utility>
 
+#include "sky/units.h"
 #include "sky/vector_clones.h"
 
 namespace skypol::sky {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using cplx = std::complex<double>;
 
 // a/b without libgcc's __divdc3 (which guards against overflow at ~10× the cost): the values

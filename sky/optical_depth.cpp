@@ -5,10 +5,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sky/units.h"
+
 namespace skypol::sky {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kAvogadro = 6.0221367e23;     // mol⁻¹, the value B99 use
 constexpr double kLoschmidt288 = 2.546899e19;  // molecules cm⁻³ at 288.15 K, 1013.25 hPa (B99)
 
@@ -81,7 +82,7 @@ double gravity_cm_s2(double latitude_deg, double altitude_m) {
     bad("latitude_deg", num(latitude_deg) + " is outside [−90, 90]");
   }
   if (!std::isfinite(altitude_m)) bad("altitude_m", num(altitude_m) + " is not finite");
-  const double c2 = std::cos(2.0 * latitude_deg * kPi / 180.0);
+  const double c2 = std::cos(rad_from_deg(2.0 * latitude_deg));
   const double g0 = 980.6160 * (1.0 - 0.0026373 * c2 + 0.0000059 * c2 * c2);
   const double z = altitude_m;
   return g0 - (3.085462e-4 + 2.27e-7 * c2) * z + (7.254e-11 + 1.0e-13 * c2) * z * z -

@@ -7,9 +7,10 @@
 #include <string>
 #include <utility>
 
+#include "sky/units.h"
+
 namespace skypol::sky {
 namespace {
-constexpr double kPi = std::numbers::pi;
 
 // Pₙ(z) and Pₙ'(z) by the three-term recurrence, |z| < 1.
 std::pair<double, double> legendre_derivative(int n, double z) {

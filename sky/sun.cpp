@@ -36,11 +36,10 @@
 #include <string>
 #include <string_view>
 
+#include "sky/units.h"
+
 namespace skypol::sky {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
@@ -81,7 +80,7 @@ constexpr double kSpaAtmosRefractDeg = 0.5667;
 double spa_refraction_deg(double e0_deg, double pressure_hpa, double temperature_c) {
   if (!(e0_deg >= -(kSpaSunRadiusDeg + kSpaAtmosRefractDeg))) return 0.0;
   return (pressure_hpa / 1010.0) * (283.0 / (273.0 + temperature_c)) * 1.02 /
-         (60.0 * std::tan((e0_deg + 10.3 / (e0_deg + 5.11)) * kDeg));
+         (60.0 * std::tan((e0_deg + 10.3 / (e0_deg + 5.11)) * kRadPerDeg));
 }
 
 // (−π, π]
@@ -150,7 +149,7 @@ Sun sun_position(const Site& site, Instant t, const SunOptions& options) {
              &refa, &refb);
   }
   eraASTROM astrom{};
-  eraApco(tt1, tt2, ebpv, ehpv[0], x, y, s_cio, theta, site.longitude_deg * kDeg, site.latitude_deg * kDeg,
+  eraApco(tt1, tt2, ebpv, ehpv[0], x, y, s_cio, theta, site.longitude_deg * kRadPerDeg, site.latitude_deg * kRadPerDeg,
           site.height_m, 0.0, 0.0, sp, refa, refb, &astrom);
 
   double pnat[3] = {-astrom.eh[0], -astrom.eh[1], -astrom.eh[2]};
@@ -164,9 +163,9 @@ Sun sun_position(const Site& site, Instant t, const SunOptions& options) {
   eraAtioq(ri, di, &astrom, &aob, &zob, &hob, &dob, &rob);
 
   if (refract && options.refraction == Refraction::spa) {
-    const double e0_deg = 90.0 - zob / kDeg;
+    const double e0_deg = 90.0 - zob / kRadPerDeg;
     const double lift_deg = spa_refraction_deg(e0_deg, options.pressure_hpa, options.temperature_c);
-    if (lift_deg != 0.0) return sun_from_horizontal(aob, (e0_deg + lift_deg) * kDeg, site.latitude_deg);
+    if (lift_deg != 0.0) return sun_from_horizontal(aob, (e0_deg + lift_deg) * kRadPerDeg, site.latitude_deg);
   }
 
   Sun sun;
@@ -186,7 +185,7 @@ Sun sun_from_horizontal(double azimuth, double elevation, double latitude_deg) {
   sun.elevation = std::clamp(elevation, -kPi / 2, kPi / 2);
   sun.direction = enu_direction(sun.azimuth, sun.elevation);
   // SI eq. 1: E = −cos δ sin ω, and cos δ cos ω = Z cos φ − N sin φ; sin δ = S·NCP.
-  const double phi = latitude_deg * kDeg;
+  const double phi = latitude_deg * kRadPerDeg;
   const Eigen::Vector3d& s = sun.direction;
   const double cos_dec_cos_ha = s.z() * std::cos(phi) - s.y() * std::sin(phi);
   sun.declination = std::atan2(s.dot(ncp), std::hypot(s.x(), cos_dec_cos_ha));
@@ -212,7 +211,7 @@ double elevation_of(const Eigen::Vector3d& enu) {
 Eigen::Vector3d north_celestial_pole(double latitude_deg) {
   require(std::isfinite(latitude_deg) && latitude_deg >= -90.0 && latitude_deg <= 90.0,
           "latitude " + std::to_string(latitude_deg) + "° is outside [−90°, 90°]");
-  const double phi = latitude_deg * kDeg;
+  const double phi = latitude_deg * kRadPerDeg;
   return {0.0, std::cos(phi), std::sin(phi)};
 }
 

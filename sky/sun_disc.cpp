@@ -8,10 +8,11 @@
 #include <string>
 
 #include "sky/clouds.h"
+#include "sky/units.h"
 
 namespace skypol::sky {
 namespace {
-const double kCosSunRadius = std::cos(kSunAngularRadiusDeg * std::numbers::pi / 180.0);
+const double kCosSunRadius = std::cos(rad_from_deg(kSunAngularRadiusDeg));
 }  // namespace
 
 SunDiscSky::SunDiscSky(std::unique_ptr<SkyModel> inner, double radiance)

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sky/units.h"
 #include "sky/vrte_solver.h"
 
 namespace skypol::sky::vrte {
@@ -32,7 +33,7 @@ CoulsonTable coulson_table(const LayerOptics& optics, double albedo, std::span<c
   for (std::size_t j = 0; j < mu0.size(); ++j)
     for (std::size_t i = 0; i < mu.size(); ++i)
       for (std::size_t a = 0; a < dphi_deg.size(); ++a) {
-        const double phi = dphi_deg[a] * std::numbers::pi / 180.0;
+        const double phi = rad_from_deg(dphi_deg[a]);
         PointResult r;
         for (int m = 0; m < s.terms; ++m) {
           const double c = std::cos(m * phi), n = std::sin(m * phi);

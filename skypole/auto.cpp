@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "sky/units.h"
 #include "skypole/method_registry.h"
 #include "skypole/sky_images.h"
 #include "skypole/uncertainty.h"
@@ -16,7 +17,7 @@ namespace skypol::skypole {
 namespace {
 
 double angle_deg(const PoleEstimate& a, const PoleEstimate& b) {
-  return tangent_offset(a, b).norm() * 180.0 / 3.14159265358979323846;
+  return deg_from_rad(tangent_offset(a, b).norm());
 }
 
 }  // namespace

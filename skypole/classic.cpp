@@ -12,12 +12,11 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "sky/units.h"
 #include "skypole/enum_names.h"
 
 namespace skypol::skypole {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // 8-connected blobs of `on` pixels; returns the label image (0 = off) and the blob count.
 int label_blobs(const std::vector<std::uint8_t>& on, int w, int h, std::vector<int>& label) {
@@ -97,9 +96,7 @@ float difference_noise(const std::vector<float>& fa, const std::vector<float>& f
       d.push_back(std::abs(static_cast<double>(fa[j] - fb[j]) - static_cast<double>(fa[i] - fb[i])));
     }
   if (d.empty()) return 0.0f;
-  const auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
-  std::nth_element(d.begin(), mid, d.end());
-  return static_cast<float>(1.4826 * *mid / std::sqrt(2.0));
+  return static_cast<float>(1.4826 * quantile(std::move(d), 0.5, QuantileRank::upper) / std::sqrt(2.0));
 }
 
 }  // namespace
@@ -282,7 +279,7 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
       const double a = std::atan2(d.cross(centroid).norm(), d.dot(centroid));
       sq += a * a;
     }
-  const double residual = std::sqrt(sq / static_cast<double>(size[static_cast<std::size_t>(chosen)])) / kDeg;
+  const double residual = std::sqrt(sq / static_cast<double>(size[static_cast<std::size_t>(chosen)])) / kRadPerDeg;
 
   if (touches_edge) {
     // Which cause the maximum points to. One that spills over the edge because it is wide (its
@@ -297,7 +294,7 @@ ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams&
     for (std::size_t i = 0; i < n; ++i)
       if (sky.valid[i] && on_edge(sky, i)) {
         const Eigen::Vector3d d = to_double(sky.ray_camera[i]);
-        edge_deg = std::min(edge_deg, std::atan2(d.cross(centroid).norm(), d.dot(centroid)) / kDeg);
+        edge_deg = std::min(edge_deg, std::atan2(d.cross(centroid).norm(), d.dot(centroid)) / kRadPerDeg);
       }
     bool field = false, masked = false;
     for (std::size_t i = 0; i < n; ++i)

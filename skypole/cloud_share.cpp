@@ -7,12 +7,14 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
+
 namespace skypol::skypole {
 
 UnreadableSky unreadable_sky(const SkyImages& sky) {
   if (sky.frames() == 0 || sky.valid_count == 0) return {};
   const auto suns = find_suns(sky, sky.dolp);
-  const double cos40 = std::cos(40.0 * std::numbers::pi / 180.0);
+  const double cos40 = std::cos(rad_from_deg(40.0));
   UnreadableSky total;
   for (std::size_t f = 0; f < sky.frames(); ++f) {
     const std::vector<float>& img = sky.dolp[f];
@@ -43,7 +45,7 @@ double ring_anisotropy(const SkyImages& sky) {
   if (sky.frames() == 0 || sky.valid_count == 0) return 0.0;
   const auto suns = find_suns(sky, sky.dolp);
   constexpr int kSectors = 8;
-  const double cos_in = std::cos(15.0 * std::numbers::pi / 180.0), cos_out = std::cos(35.0 * std::numbers::pi / 180.0);
+  const double cos_in = std::cos(rad_from_deg(15.0)), cos_out = std::cos(rad_from_deg(35.0));
   double total = 0;
   int frames = 0;
   for (std::size_t f = 0; f < sky.frames(); ++f) {

@@ -8,11 +8,11 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
 #include "skypole/enum_names.h"
 
 namespace skypol::skypole {
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
 }
 
 constexpr EnumNames<Hemisphere, 3> kHemisphereNames{
@@ -57,7 +57,7 @@ Score score(const PoleEstimate& estimate, const scene::Truth& truth) {
       (truth.world_from_camera *
        (estimate.is_north ? estimate.pole_camera : Eigen::Vector3d(-estimate.pole_camera)))
           .normalized();
-  s.angular_error_deg = std::atan2(true_ncp.cross(est_ncp).norm(), true_ncp.dot(est_ncp)) / kDeg;
+  s.angular_error_deg = std::atan2(true_ncp.cross(est_ncp).norm(), true_ncp.dot(est_ncp)) / kRadPerDeg;
   s.latitude_error_deg = estimate.latitude_deg - truth.site.latitude_deg;
   // The true bearing exists unless the NCP is at the zenith or nadir (a geographic pole).
   const bool truth_defined = std::hypot(true_ncp.x(), true_ncp.y()) > 1e-9;

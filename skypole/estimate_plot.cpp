@@ -10,14 +10,13 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/sky_images.h"
 #include "skypole/sky_mask.h"
 
 namespace skypol::skypole {
 namespace {
-
-constexpr double kDeg = 180 / std::numbers::pi;
 
 // The third panel's categories, in this order (the indices of PlotFrame::category).
 enum Category : std::uint8_t { kRead, kUnpolarized, kMaskedOther, kClipped, kOccluded, kNotRead };
@@ -205,7 +204,7 @@ stack::PlotFrame plot_base(const stack::Stack& stack, const std::vector<PoleEsti
     const Eigen::Matrix3d camera_from_world =
         stack.truth_known ? frame.truth.world_from_camera.transpose()
                           : Eigen::Matrix3d(sky.level_from_camera.transpose() *
-                                            Eigen::AngleAxisd(*placing->heading_deg / kDeg, Eigen::Vector3d::UnitZ()));
+                                            Eigen::AngleAxisd(*placing->heading_deg / kDegPerRad, Eigen::Vector3d::UnitZ()));
     std::vector<Eigen::Vector2d> track;
     for (const stack::Frame& fr : stack.frames) {
       const auto px = pixel_of(lens, camera_from_world * fr.truth.sun.direction);
@@ -273,7 +272,7 @@ void add_answers(stack::PlotFrame& p, const stack::Stack& stack, const std::vect
     const stack::Rgb colour = plot_colour(e.method);
     if (e.valid) {
       if (e.cone95_deg > 0) {
-        for (auto& piece : projected_circle(lens, e.pole_camera, e.cone95_deg / kDeg)) {
+        for (auto& piece : projected_circle(lens, e.pole_camera, e.cone95_deg / kDegPerRad)) {
           if (!piece.empty()) p.lines.push_back({std::move(piece), scaled(colour, kPlotConeShade)});
         }
       }

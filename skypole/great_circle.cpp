@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
+#include "sky/units.h"
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
 #include "skypole/stack_sky.h"
@@ -20,17 +21,7 @@
 namespace skypol::skypole {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-
 using Crossing = CircleCrossing;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 double tukey(double r, double c) {
   const double u = r / c;
@@ -115,7 +106,7 @@ std::optional<std::array<PlaneFit, 2>> fit_plane_pair(const std::vector<Crossing
       if (members[k].size() < 3) return std::nullopt;
       std::vector<double> absr(r[k].size());
       for (std::size_t t = 0; t < r[k].size(); ++t) absr[t] = std::abs(r[k][t]);
-      const double sigma = std::max(1.4826 * median(absr), 1e-7);
+      const double sigma = std::max(1.4826 * quantile(absr, 0.5, QuantileRank::upper), 1e-7);
       const double cut = 4.685 * sigma;
       Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
       int inl = 0;
@@ -158,7 +149,7 @@ std::optional<PlaneFit> refit_away_from_sun(const std::vector<Crossing>& pts, co
   for (int iter = 0; iter < 6; ++iter) {
     std::vector<double> absr(members.size());
     for (std::size_t t = 0; t < members.size(); ++t) absr[t] = std::abs(fit.n.dot(members[t]->p));
-    const double cut = 4.685 * std::max(1.4826 * median(absr), 1e-7);
+    const double cut = 4.685 * std::max(1.4826 * quantile(absr, 0.5, QuantileRank::upper), 1e-7);
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
     int inl = 0;
     double sq = 0;
@@ -264,18 +255,18 @@ void set_circles(CirclePair& cp, const std::vector<Crossing>& pts, const PlaneFi
                  const GreatCircleParams& params) {
   cp.radial_points = radial.inliers;
   cp.plane_points = plane.inliers;
-  cp.radial_rms_deg = radial.rms / kDeg;
+  cp.radial_rms_deg = radial.rms / kRadPerDeg;
   // The largest exclusion (the given one, then 2/3 and 1/3 of it) that leaves enough of the
   // circle; a view of little but the sun's side of the sky (the pole outside the field of view)
   // keeps the fit on every crossing.
   for (const double share : {1.0, 2.0 / 3.0, 1.0 / 3.0}) {
     if (!(params.sun_exclusion_deg > 0)) break;
     const auto away = refit_away_from_sun(pts, radial.n, plane.n, cp.plane_normal,
-                                          share * params.sun_exclusion_deg * kDeg, params.min_points);
+                                          share * params.sun_exclusion_deg * kRadPerDeg, params.min_points);
     if (!away) continue;
     cp.radial_normal = away->n.dot(cp.radial_normal) < 0 ? Eigen::Vector3d(-away->n) : away->n;
     cp.radial_points = away->inliers;
-    cp.radial_rms_deg = away->rms / kDeg;
+    cp.radial_rms_deg = away->rms / kRadPerDeg;
     break;
   }
   cp.used = radial.inliers >= params.min_points && cp.sun_separation_deg >= params.min_separation_deg;
@@ -307,7 +298,7 @@ PoleFit solve_pole(const std::vector<Eigen::Vector3d>& n, const std::vector<doub
     fit.kappa = drift && sg > 0 ? b.dot(fit.p) / sg : 0.0;
     std::vector<double> absr(n.size());
     for (std::size_t k = 0; k < n.size(); ++k) absr[k] = std::abs(n[k].dot(fit.p) - fit.kappa * g[k]);
-    const double sigma = std::max(1.4826 * median(absr), 2e-5);
+    const double sigma = std::max(1.4826 * quantile(absr, 0.5, QuantileRank::upper), 2e-5);
     double sw = 0, swr = 0;
     for (std::size_t k = 0; k < n.size(); ++k) {
       fit.weight[k] = base_w[k] * tukey(absr[k], 4.685 * sigma);
@@ -330,7 +321,7 @@ double normal_span_deg(const std::vector<Eigen::Vector3d>& n, const std::vector<
   std::sort(ang.begin(), ang.end());
   double gap = ang.front() + 2 * kPi - ang.back();
   for (std::size_t k = 1; k < ang.size(); ++k) gap = std::max(gap, ang[k] - ang[k - 1]);
-  return (2 * kPi - gap) / kDeg;
+  return (2 * kPi - gap) / kRadPerDeg;
 }
 
 }  // namespace
@@ -421,7 +412,7 @@ GreatCirclePairs great_circle_pairs(const SkyView& view, const GreatCircleParams
     const PlaneFit& plane = &radial == &(*planes)[0] ? (*planes)[1] : (*planes)[0];
     cp.radial_normal = hyp.radial_normal;
     cp.plane_normal = hyp.plane_normal;
-    cp.sun_separation_deg = 2 * hyp.half_separation / kDeg;
+    cp.sun_separation_deg = 2 * hyp.half_separation / kRadPerDeg;
     cp.hypothesis_ratio = hyp.ratio;
     set_circles(cp, pts, radial, plane, params);
     if (out.sectors > 0) out.crossings[k] = std::move(pts);
@@ -464,12 +455,12 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
       half_step = 0.5 * kHourAngleRate * (sky.times_s[static_cast<std::size_t>(c.j)] -
                                           sky.times_s[static_cast<std::size_t>(c.i)]);
     else
-      half_step = 0.5 * c.sun_separation_deg * kDeg;
+      half_step = 0.5 * c.sun_separation_deg * kRadPerDeg;
     half_step = std::clamp(half_step, 1e-9, 0.5 * kPi - 1e-3);
     normals.push_back(c.radial_normal);
     g.push_back(half_step / std::sin(half_step));
     // Normal precision ∝ rms / √points; floor the rms so noise-free fits weigh alike.
-    const double rms = std::max(c.radial_rms_deg * kDeg, 1e-4);
+    const double rms = std::max(c.radial_rms_deg * kRadPerDeg, 1e-4);
     w.push_back(static_cast<double>(c.radial_points) / (rms * rms));
     index.push_back(k);
   }
@@ -542,7 +533,7 @@ GreatCircleResult pole_from_circles(const SkyImages& sky, std::vector<CirclePair
   result.estimate = make_estimate(method, sky, ncp, params.input);
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + source;
-  result.estimate.residual_deg = std::asin(std::min(1.0, fit.rms)) / kDeg;
+  result.estimate.residual_deg = std::asin(std::min(1.0, fit.rms)) / kRadPerDeg;
   result.estimate.seconds = seconds();
   if (params.keep_circles) result.circles = circles;
   return result;

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
 #include "skypole/stack_sky.h"
@@ -20,8 +21,6 @@
 namespace skypol::skypole {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 // The other sense of rotation must fit at least this much worse for the co-rotating fit to say
 // which pole it found.
 constexpr double kMinSenseContrast = 2.0;
@@ -169,10 +168,10 @@ InvarianceResult estimate_invariance(const SkyView& view, const InvarianceParams
   };
 
   // Coarse: Fibonacci lattice of the sky (level frame) above min_elevation.
-  const double step = params.coarse_step_deg * kDeg;
+  const double step = params.coarse_step_deg * kRadPerDeg;
   const int m = static_cast<int>(std::ceil(4 * kPi / (step * step)));
   const double golden = kPi * (3 - std::sqrt(5.0));
-  const double min_z = std::sin(params.input.min_elevation_deg * kDeg);
+  const double min_z = std::sin(params.input.min_elevation_deg * kRadPerDeg);
   const Eigen::Matrix3d camera_from_level = sky.level_from_camera.transpose();
   std::vector<std::pair<double, Eigen::Vector3d>> coarse;
   for (int k = 0; k < m; ++k) {
@@ -255,15 +254,15 @@ InvarianceResult estimate_invariance(const SkyView& view, const InvarianceParams
                           std::string("hemisphere from ") + hemi.source;
   char window[96];
   std::snprintf(window, sizeof window, "; sub-pixel: %s model over %.1f deg",
-                result.corotating ? "co-rotating" : "per-frame", sp.window_rad / kDeg);
+                result.corotating ? "co-rotating" : "per-frame", sp.window_rad / kRadPerDeg);
   result.estimate.note += window;
   if (result.corotating && params.model_declination_drift && motion.suns_in_frames.empty())
     result.estimate.note += "; the sun's declination drift is not modelled (no sun found in the images)";
   result.dolp_rms_at_pole = std::sqrt(sp.v);
-  result.window_deg = sp.window_rad / kDeg;
+  result.window_deg = sp.window_rad / kRadPerDeg;
   result.rotation_sense = sp.sense;
   result.rotation_sense_contrast = sp.sense_contrast;
-  result.estimate.residual_deg = sp.sigma_rad / kDeg;
+  result.estimate.residual_deg = sp.sigma_rad / kRadPerDeg;
   for (const auto& d : sp.without_sector)
     result.without_sector.push_back(
         d ? make_estimate(method, sky, hemi.is_north ? *d : Eigen::Vector3d(-*d), params.input)

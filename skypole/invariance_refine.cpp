@@ -10,11 +10,10 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
+
 namespace skypol::skypole {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 // A bivariate polynomial of total degree `degree`, in coordinates normalised to the window
 // (|w| ≤ 1) for conditioning. Near the equinox DoLP is stationary at the pole in space and time
@@ -401,7 +400,7 @@ SubPixel corotating_refine(const SkyImages& sky, const SunMotion& motion, bool t
                            int sectors) {
   SubPixel out;
   for (int recentre = 0; recentre < 4; ++recentre) {
-    const auto win = corotating_window(sky, c, radius_deg * kDeg, min_radius_deg * kDeg, out.why);
+    const auto win = corotating_window(sky, c, radius_deg * kRadPerDeg, min_radius_deg * kRadPerDeg, out.why);
     if (!win) return out;
     CorotatingFit fit{sky, motion, *win, Poly{degree}, trend};
     if (static_cast<int>(win->dirs.size()) < 2 * fit.poly.terms()) {

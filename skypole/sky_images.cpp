@@ -18,11 +18,11 @@
 #include "camera/orientation.h"
 #include "sky/sun.h"
 #include "sky/time.h"
+#include "sky/units.h"
 
 namespace skypol::skypole {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 // North or south (skypole/README.md): a pole estimated within this of the horizon is the equator's
 // and reported north; a hint loses to a sun-rotation vote at least this one-sided (|Σ| ≥ k·Σ|·|).
 constexpr double kEquatorBandDeg = 0.1;
@@ -146,7 +146,7 @@ SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options
                                   " is earlier than frame " + std::to_string(k - 1));
   }
 
-  const double min_z = std::sin(options.min_elevation_deg * kDeg);
+  const double min_z = std::sin(options.min_elevation_deg * kRadPerDeg);
   out.ray.assign(n, Eigen::Vector3f::Zero());
   out.sky.assign(n, 0);
   tbb::parallel_for(0, sky.height, [&](int y) {
@@ -205,7 +205,7 @@ SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
   }
   // The clipped sky, in pixel order, above the same elevation: no method reads it (it is not
   // valid), but the cloud gate counts it as sky it could not read (cloud_share.h).
-  const double min_z = std::sin(frames.options.min_elevation_deg * kDeg);
+  const double min_z = std::sin(frames.options.min_elevation_deg * kRadPerDeg);
   for (std::size_t i = 0; i < clipped.size(); ++i) {
     if (!clipped[i] || sky.valid[i]) continue;
     const int x = static_cast<int>(i % static_cast<std::size_t>(sky.width));
@@ -314,9 +314,19 @@ float valid_quantile(const std::vector<float>& image, const SkyImages& sky, doub
   return v[k];
 }
 
-double quantile(std::vector<double> v, double q) {
+double quantile(std::vector<double> v, double q, QuantileRank rank) {
   if (v.empty()) return 0.0;
-  return nth_smallest(v, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1)));
+  const std::size_t n = v.size();
+  switch (rank) {
+    case QuantileRank::lower: return nth_smallest(v, static_cast<std::size_t>(q * static_cast<double>(n - 1)));
+    case QuantileRank::nearest: {
+      const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(n)));
+      return nth_smallest(v, std::clamp<std::size_t>(k, 1, n) - 1);
+    }
+    case QuantileRank::upper:
+      return nth_smallest(v, std::min(static_cast<std::size_t>(q * static_cast<double>(n)), n - 1));
+  }
+  return 0.0;
 }
 
 double nth_smallest(const std::vector<double>& v, std::size_t k) {
@@ -385,7 +395,7 @@ std::vector<std::optional<Eigen::Vector3d>> find_suns(const SkyImages& sky, cons
     // 10 % of the p99 their DoLP lies (the sun's neighbourhood is flat, DoLP ∝ γ²: one pixel is noisy).
     const Eigen::Vector3d s0 = to_double(sky.ray_camera[best]);
     const double cut = 0.1 * static_cast<double>(p99);
-    const double cos10 = std::cos(10 * kDeg);
+    const double cos10 = std::cos(10 * kRadPerDeg);
     Eigen::Vector3d acc = Eigen::Vector3d::Zero();
     for (std::size_t i = 0; i < img.size(); ++i) {
       const double v = img[i];
@@ -440,7 +450,7 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
                                      const std::vector<double>& times_s) {
   HemisphereDecision d;
   const RotationVote v = rotation_vote(suns, axis_camera, times_s);
-  const bool seen = v.used > 0 && v.total >= std::sin(0.5 * kDeg);
+  const bool seen = v.used > 0 && v.total >= std::sin(0.5 * kRadPerDeg);
   if (hint != Hemisphere::automatic) {
     // The axis is the end above the horizon (see the header): the NCP for a northern observer.
     // A hint decides unless the data contradict it decisively (skypole/README.md, "North or
@@ -499,7 +509,7 @@ SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options) {
 Unusable why_unusable(const SkyImages& sky, int x, int y) {
   if (x < 0 || y < 0 || x >= sky.width || y >= sky.height) return Unusable::field_edge;
   const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
-  if (!r || (sky.level_from_camera * r->normalized()).z() < std::sin(sky.min_elevation_deg * kDeg))
+  if (!r || (sky.level_from_camera * r->normalized()).z() < std::sin(sky.min_elevation_deg * kRadPerDeg))
     return Unusable::field_edge;
   return Unusable::masked_sky;
 }
@@ -522,13 +532,13 @@ void place_pole(PoleEstimate& e, const SkyImages& sky, const Eigen::Vector3d& nc
   // kEquatorBandDeg below the horizon. An estimator cannot tell latitude 0 from ±0.001°, so an
   // observer on the equator is reported north (the NCP, possibly a hair below the horizon, with
   // its latitude as measured) rather than flipping to south on the estimate's noise.
-  e.is_north = ncp_level.z() >= -std::sin(kEquatorBandDeg * kDeg);
+  e.is_north = ncp_level.z() >= -std::sin(kEquatorBandDeg * kRadPerDeg);
   e.pole_camera = e.is_north ? ncp : Eigen::Vector3d(-ncp);
   e.pole_level = sky.level_from_camera * e.pole_camera;
   const Eigen::Vector3d& p = e.pole_level;
   const double horiz = std::hypot(p.x(), p.y());
-  e.altitude_deg = std::atan2(p.z(), horiz) / kDeg;
-  e.azimuth_rel_deg = horiz > 0 ? wrap360(std::atan2(p.x(), p.y()) / kDeg) : 0.0;
+  e.altitude_deg = std::atan2(p.z(), horiz) / kRadPerDeg;
+  e.azimuth_rel_deg = horiz > 0 ? wrap360(std::atan2(p.x(), p.y()) / kRadPerDeg) : 0.0;
   e.latitude_deg = e.is_north ? e.altitude_deg : -e.altitude_deg;
   if (90.0 - e.altitude_deg < options.heading_undefined_within_deg) {
     e.heading_deg = std::nullopt;

@@ -126,9 +126,16 @@ std::vector<std::vector<float>> filter_all(const SkyImages& sky, double radius_p
 // Value below which `fraction` of the valid pixels of `image` lie (nth_element; 0 if none).
 float valid_quantile(const std::vector<float>& image, const SkyImages& sky, double fraction);
 
-// The q-quantile (0 ≤ q ≤ 1) of v: its element of rank ⌊q·(n − 1)⌋ (the lower median for q = 0.5);
-// 0 for an empty v.
-double quantile(std::vector<double> v, double q);
+// Which of n values (0-based, in sorted order) the q-quantile is. The callers differ on purpose:
+// the estimators' robust scales were tuned on their medians, the study reports the textbook one.
+enum class QuantileRank {
+  lower,    // ⌊q·(n − 1)⌋: the lower median at q = 0.5, the extremes at q = 0 and 1
+  nearest,  // ⌈q·n⌉ − 1, at least 0 (nearest rank: the least value with at least q·n values ≤ it)
+  upper,    // ⌊q·n⌋, at most n − 1: the upper median v[n / 2] at q = 0.5
+};
+
+// The q-quantile (0 ≤ q ≤ 1) of v at `rank`; 0 for an empty v.
+double quantile(std::vector<double> v, double q, QuantileRank rank = QuantileRank::lower);
 
 // The element of rank k (0-based, k < v.size()) of v: what std::nth_element would put at k, found
 // without sorting a copy of v (a radix histogram of the leading bits picks the few elements that

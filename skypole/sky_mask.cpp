@@ -9,12 +9,12 @@
 
 #include <tbb/parallel_for.h>
 
+#include "sky/units.h"
 #include "skypole/sun_vector.h"
 
 namespace skypol::skypole {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kMinDolpForAolp = kMaskMinDolp;  // below, the AoLP is mostly noise
 
 const std::vector<float>* channel(const stack::Frame& f, const std::string& name) {
@@ -122,7 +122,7 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
       good_res.push_back(res.back().second);
     }
     if (good_res.size() < 20) return;
-    const double cut = std::max(p.aolp_min_deg * kDeg, 4 * 1.4826 * quantile(std::move(good_res), 0.5));
+    const double cut = std::max(p.aolp_min_deg * kRadPerDeg, 4 * 1.4826 * quantile(std::move(good_res), 0.5));
     for (const auto& [i, r] : res)
       if (r > cut) mark[i] |= SkyJudgments::kAolp;
   });

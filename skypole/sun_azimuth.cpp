@@ -15,13 +15,12 @@
 #include "camera/camera.h"
 #include "camera/lens.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "skypole/sky_images.h"
 #include "skypole/sun_vector.h"
 
 namespace skypol::skypole {
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 double wrap_pi(double a) { return std::remainder(a, 2 * kPi); }
 
@@ -52,7 +51,7 @@ Eigen::Vector3d geocentric_sun(sky::Instant t) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const double lon_deg : {0.0, 180.0}) {
     const sky::Sun g = sky::sun_position(sky::Site{0, lon_deg, 0}, t);
-    const double gha = g.hour_angle - lon_deg * kDeg;  // the hour angle at Greenwich
+    const double gha = g.hour_angle - lon_deg * kRadPerDeg;  // the hour angle at Greenwich
     sum += Eigen::Vector3d(std::cos(g.declination) * std::cos(gha), -std::cos(g.declination) * std::sin(gha),
                            std::sin(g.declination));
   }
@@ -226,8 +225,8 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
   }
   // The grid: cost at every (φ, λ) with ψ in closed form; its local minima are the starts.
   constexpr int kLat = 90, kLon = 180;  // 2° cells
-  const auto lat_of = [](int i) { return (-89.0 + 2.0 * i) * kDeg; };
-  const auto lon_of = [](int j) { return (-180.0 + 2.0 * j) * kDeg; };
+  const auto lat_of = [](int i) { return (-89.0 + 2.0 * i) * kRadPerDeg; };
+  const auto lon_of = [](int j) { return (-180.0 + 2.0 * j) * kRadPerDeg; };
   std::vector<double> grid(static_cast<std::size_t>(kLat * kLon));
   for (int i = 0; i < kLat; ++i)
     for (int j = 0; j < kLon; ++j) {
@@ -251,7 +250,7 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
   if (starts.size() > 8) starts.resize(8);
   // Refine each start; keep the distinct minima whose suns are where the images put them within the
   // gross elevation check.
-  constexpr double kElevationGrossRad = 10 * kDeg;
+  constexpr double kElevationGrossRad = 10 * kRadPerDeg;
   std::vector<Minimum> minima;
   for (const auto& [c, ij] : starts) {
     const double lat = lat_of(ij[0]), lon = lon_of(ij[1]);
@@ -260,7 +259,7 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
     // Two minima are one answer when they put the pole (what a user asks for) at the same place:
     // at a geographic pole every longitude does, with its own heading.
     const bool seen = std::any_of(minima.begin(), minima.end(), [&](const Minimum& o) {
-      return level_pole(o.x).dot(level_pole(m.x)) > std::cos(0.5 * kDeg);
+      return level_pole(o.x).dot(level_pole(m.x)) > std::cos(0.5 * kRadPerDeg);
     });
     if (!seen) minima.push_back(m);
   }
@@ -270,17 +269,17 @@ AzimuthFix fix_from_sun_azimuths(const std::vector<Eigen::Vector3d>& suns_level,
   }
   std::sort(minima.begin(), minima.end(), [](const Minimum& a, const Minimum& b) { return a.cost < b.cost; });
   const Minimum& best = minima.front();
-  fix.latitude_deg = std::clamp(best.x(0) / kDeg, -90.0, 90.0);  // the fit clamps φ to ±π/2; its degrees may round past 90
-  fix.longitude_deg = best.x(1) / kDeg;
-  fix.heading_deg = best.x(2) / kDeg;
+  fix.latitude_deg = std::clamp(best.x(0) / kRadPerDeg, -90.0, 90.0);  // the fit clamps φ to ±π/2; its degrees may round past 90
+  fix.longitude_deg = best.x(1) / kRadPerDeg;
+  fix.heading_deg = best.x(2) / kRadPerDeg;
   fix.rms_rad = std::sqrt(best.cost / static_cast<double>(sights.size()));
-  fix.elevation_rms_deg = elevation_rms(sights, best.x(0), best.x(1)) / kDeg;
+  fix.elevation_rms_deg = elevation_rms(sights, best.x(0), best.x(1)) / kRadPerDeg;
   if (minima.size() > 1 && minima[1].cost <= (1 + ambiguity_margin) * best.cost) {
     char buf[200];
     std::snprintf(buf, sizeof buf,
                   "the suns' azimuths fit two sites about as well (latitude %.1f° or %.1f°): the window "
                   "does not decide",
-                  fix.latitude_deg, minima[1].x(0) / kDeg);
+                  fix.latitude_deg, minima[1].x(0) / kRadPerDeg);
     fix.why = buf;
     return fix;
   }
@@ -331,12 +330,12 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
   }
   const AzimuthFix fix = fix_from_sun_azimuths(level, times, params.ambiguity_margin);
   if (!fix.ok) return fail(fix.why);
-  PoleEstimate e = make_estimate(kMethod, sky, ncp_camera_at(sky, fix.heading_deg * kDeg, fix.latitude_deg), params.input);
+  PoleEstimate e = make_estimate(kMethod, sky, ncp_camera_at(sky, fix.heading_deg * kRadPerDeg, fix.latitude_deg), params.input);
   char buf[120];
   std::snprintf(buf, sizeof buf, "fitted longitude %.3f°; suns' elevations %.3f° rms from the fit's", fix.longitude_deg,
                 fix.elevation_rms_deg);
   e.note += (e.note.empty() ? "" : "; ") + std::string(buf);
-  e.residual_deg = fix.rms_rad / kDeg;
+  e.residual_deg = fix.rms_rad / kRadPerDeg;
   e.seconds = seconds();
   return e;
 }

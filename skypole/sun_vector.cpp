@@ -13,14 +13,13 @@
 
 #include "camera/camera.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "skypole/enum_names.h"
 #include "skypole/sky_mask.h"
 #include "skypole/stack_sky.h"
 
 namespace skypol::skypole {
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 }  // namespace
 
 constexpr EnumNames<PoleFromSun, 2> kPoleFromSunNames{
@@ -158,9 +157,7 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
         const double c = s.dot(d_all[k]);
         r[k] = std::abs(p * (1 - c * c) / (1 + c * c) - v_all[k]);
       }
-      std::vector<double> sorted = r;
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-      const double cut = std::max(kMinCut, 3 * 1.4826 * sorted[sorted.size() / 2]);
+      const double cut = std::max(kMinCut, 3 * 1.4826 * quantile(r, 0.5, QuantileRank::upper));
       d.clear();
       v.clear();
       for (std::size_t k = 0; k < d_all.size(); ++k)
@@ -263,7 +260,7 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     if (round == 2 || !robust) break;
     std::vector<double> r(at.size());
     for (std::size_t k = 0; k < at.size(); ++k) r[k] = std::abs(e_at(k).dot(s));
-    const double cut = std::max(std::sin(kMinCutDeg * kDeg), 3 * 1.4826 * nth_smallest(r, r.size() / 2));
+    const double cut = std::max(std::sin(kMinCutDeg * kRadPerDeg), 3 * 1.4826 * nth_smallest(r, r.size() / 2));
     for (std::size_t k = 0; k < at.size(); ++k) use[k] = r[k] <= cut ? 1 : 0;
   }
   if ((sky.level_from_camera * s).z() < 0) s = -s;
@@ -430,14 +427,14 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
       const double turn = std::min(std::abs(de) / std::max(std::hypot(enu[t].x(), enu[t].y()), 1e-9), kPi / 2);
       elevation_sq += turn * turn;
     }
-    const double lat = site.latitude_deg * kDeg;
+    const double lat = site.latitude_deg * kRadPerDeg;
     result.estimate = make_estimate(method, sky, ncp_camera_at(sky, psi, site.latitude_deg), params.input);
     result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                             std::string("ephemeris mode: latitude is the given site's");
-    result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kDeg;
+    result.estimate.residual_deg = std::sqrt(sq / static_cast<double>(sky.frames())) / kRadPerDeg;
     // A heading error h moves the pole by h·cos(its altitude) in the tangent plane.
     result.estimate.sun_elevation_misfit_deg =
-        std::sqrt(elevation_sq / static_cast<double>(sky.frames())) * std::cos(lat) / kDeg;
+        std::sqrt(elevation_sq / static_cast<double>(sky.frames())) * std::cos(lat) / kRadPerDeg;
     if (params.source == SunSource::dolp) result.estimate.model_misfit = quantile(misfit, 0.5);
     result.estimate.seconds = seconds();
     return result;
@@ -470,7 +467,7 @@ SunVectorResult estimate_sun_vector(const SkyView& view, const SunVectorParams& 
   result.estimate.note += (result.estimate.note.empty() ? "" : "; ") +
                           std::string("hemisphere from ") + hemi.source;
   const Eigen::VectorXd r = h * (s * p);
-  result.estimate.residual_deg = std::sqrt(r.squaredNorm() / static_cast<double>(n)) / kDeg;
+  result.estimate.residual_deg = std::sqrt(r.squaredNorm() / static_cast<double>(n)) / kRadPerDeg;
   if (params.source == SunSource::dolp) result.estimate.model_misfit = quantile(misfit, 0.5);
   result.estimate.seconds = seconds();
   return result;

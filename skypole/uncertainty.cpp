@@ -14,10 +14,11 @@
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
+#include "sky/units.h"
+
 namespace skypol::skypole {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kChi2_2_95 = 5.991464547107979;  // χ²₂ quantile at 0.95
 
 // Unit azimuth and altitude axes of the tangent plane at the level-frame direction p.
@@ -43,10 +44,10 @@ std::string deg_text(double v) {
 }  // namespace
 
 void set_uncertainty(PoleEstimate& e, const Eigen::Matrix2d& c) {
-  const double alt = e.altitude_deg * kDeg;
-  e.sigma_latitude_deg = std::sqrt(std::max(c(1, 1), 0.0)) / kDeg;
+  const double alt = e.altitude_deg * kRadPerDeg;
+  e.sigma_latitude_deg = std::sqrt(std::max(c(1, 1), 0.0)) / kRadPerDeg;
   const double cos_alt = std::cos(alt);
-  const double sb = cos_alt > 1e-9 ? std::sqrt(std::max(c(0, 0), 0.0)) / cos_alt / kDeg : 180.0;
+  const double sb = cos_alt > 1e-9 ? std::sqrt(std::max(c(0, 0), 0.0)) / cos_alt / kRadPerDeg : 180.0;
   e.sigma_bearing_deg = std::min(sb, 180.0);
   e.sigma_deg = sigma_deg_of(c);
   e.cone95_deg = cone95_deg_of(c);
@@ -204,9 +205,9 @@ std::optional<Eigen::Matrix2d> sector_jackknife(PoleEstimate& e, int sectors,
                          "the answer rests on one part of the sky (cloud, a neutral point, saturation)");
 }
 
-double sigma_deg_of(const Eigen::Matrix2d& c) { return std::sqrt(lambda_max(c)) / kDeg; }
+double sigma_deg_of(const Eigen::Matrix2d& c) { return std::sqrt(lambda_max(c)) / kRadPerDeg; }
 
-double cone95_deg_of(const Eigen::Matrix2d& c) { return std::min(std::sqrt(kChi2_2_95 * lambda_max(c)) / kDeg, 180.0); }
+double cone95_deg_of(const Eigen::Matrix2d& c) { return std::min(std::sqrt(kChi2_2_95 * lambda_max(c)) / kRadPerDeg, 180.0); }
 
 int frame_jackknife_groups(int frames, int max_groups) { return std::min(frames, std::max(max_groups, 2)); }
 
@@ -224,7 +225,7 @@ double few_groups_widening2(double frames_var, int frame_groups, double sectors_
 }
 
 Eigen::Matrix2d stated_covariance(const Jackknives& j, double a, double b, double floor_deg, bool widen) {
-  const double floor = floor_deg * kDeg;
+  const double floor = floor_deg * kRadPerDeg;
   const Eigen::Matrix2d jack = a * a * j.frames + b * b * j.sectors;
   const double w2 = widen ? few_groups_widening2(a * a * lambda_max(j.frames), j.frame_groups,
                                                  b * b * lambda_max(j.sectors), b > 0 ? j.sector_groups : 0)
@@ -402,7 +403,7 @@ double pixel_angle_deg(const camera::Camera& camera) {
   const auto a = camera.lens().ray(Eigen::Vector2d(k.cx, k.cy));
   const auto b = camera.lens().ray(Eigen::Vector2d(k.cx + 1.0, k.cy));
   if (!a || !b) return 0.0;
-  return std::acos(std::clamp(a->normalized().dot(b->normalized()), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+  return deg_from_rad(std::acos(std::clamp(a->normalized().dot(b->normalized()), -1.0, 1.0)));
 }
 
 void apply_uncertainty_bound(PoleEstimate& e, double max_cone95_deg) {

@@ -142,14 +142,7 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
   const CaptureSpec spec = read_capture(*cap, base);
 
   std::optional<sky::Site> site;
-  if (std::optional<scene::Fields> s = top.table("site")) {
-    sky::Site v;
-    v.latitude_deg = s->required_number("latitude_deg", -90, 90);
-    v.longitude_deg = s->required_number("longitude_deg", -180, 360);
-    v.height_m = s->number("height_m", 0, -1000, 1e5);
-    s->finish();
-    site = v;
-  }
+  if (std::optional<scene::Fields> s = top.table("site")) site = scene::read_site(*s);
   std::optional<scene::Fields> cam_table = top.table("camera");
   if (!cam_table) top.fail("camera", "missing section [camera] (the lens and its calibration, docs/scenes.md)");
   if (cam_table->has("heading_deg") || cam_table->has("quaternion")) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "sky/units.h"
 #include "stack/colormap.h"
 #include "stack/oiio_module.h"
 #include "stack/polarization_math.h"
@@ -18,7 +19,6 @@ namespace skypol::stack {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = 180 / std::numbers::pi;
 
 // Layout constants, pixels.
 constexpr int kMargin = 14;
@@ -224,8 +224,8 @@ PreviewFrame preview_frame(const Frame& frame, const camera::Camera& camera, con
   const std::vector<float>* s2 = frame.has("S2." + band) ? &frame.channel("S2." + band) : nullptr;
   complete(p, s1, s2, "frame " + sky::format_iso8601(frame.truth.time));
   p.inside = inside ? *inside : preview_inside(camera);
-  p.title = title_of(sky::format_iso8601(frame.truth.time), frame.truth.sun.azimuth * kDeg,
-                     frame.truth.sun.elevation * kDeg);
+  p.title = title_of(sky::format_iso8601(frame.truth.time), frame.truth.sun.azimuth * kDegPerRad,
+                     frame.truth.sun.elevation * kDegPerRad);
   return p;
 }
 

@@ -41,6 +41,7 @@
 #include "scene/scene.h"
 #include "scene/scene_error.h"
 #include "scene/truth.h"
+#include "sky/units.h"
 #include "stack/exr_ostream.h"
 #include "stack/temp_files.h"
 #include "stack/version.h"
@@ -55,8 +56,6 @@ bool stays_float(const std::string& channel) { return channel == "mask" || chann
 // Half's largest finite value. A half stack clamps to ±kHalfMax rather than writing ±Inf (the sun
 // disc's radiance, ~2e5, is beyond it); the header says so (skypol:halfClamp, docs/exr-format.md).
 constexpr float kHalfMax = 65504.0f;
-
-constexpr double kDeg = 180.0 / std::numbers::pi;
 
 constexpr const char* kExposure = "skypol:exposureUs";
 
@@ -163,10 +162,10 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
     put<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", t.site.latitude_deg);
     put<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", t.site.longitude_deg);
     put<Imf::DoubleAttribute>(h, "skypol:heightM", t.site.height_m);
-    put<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", t.sun.azimuth * kDeg);
-    put<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", t.sun.elevation * kDeg);
-    put<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", t.sun.declination * kDeg);
-    put<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", t.sun.hour_angle * kDeg);
+    put<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", t.sun.azimuth * kDegPerRad);
+    put<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", t.sun.elevation * kDegPerRad);
+    put<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", t.sun.declination * kDegPerRad);
+    put<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", t.sun.hour_angle * kDegPerRad);
     put<Imf::V3dAttribute>(h, "skypol:sunDirectionENU",
                            Imath::V3d(t.sun.direction.x(), t.sun.direction.y(), t.sun.direction.z()));
   }
@@ -239,10 +238,10 @@ void read_site_and_sun(const Imf::Header& h, const std::string& path, int part, 
   t.site.latitude_deg = need<Imf::DoubleAttribute>(h, "skypol:latitudeDeg", path, part).value();
   t.site.longitude_deg = need<Imf::DoubleAttribute>(h, "skypol:longitudeDeg", path, part).value();
   t.site.height_m = need<Imf::DoubleAttribute>(h, "skypol:heightM", path, part).value();
-  t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDeg;
-  t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDeg;
-  t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDeg;
-  t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDeg;
+  t.sun.azimuth = need<Imf::DoubleAttribute>(h, "skypol:sunAzimuthDeg", path, part).value() / kDegPerRad;
+  t.sun.elevation = need<Imf::DoubleAttribute>(h, "skypol:sunElevationDeg", path, part).value() / kDegPerRad;
+  t.sun.declination = need<Imf::DoubleAttribute>(h, "skypol:sunDeclinationDeg", path, part).value() / kDegPerRad;
+  t.sun.hour_angle = need<Imf::DoubleAttribute>(h, "skypol:sunHourAngleDeg", path, part).value() / kDegPerRad;
   const Imath::V3d s = need<Imf::V3dAttribute>(h, "skypol:sunDirectionENU", path, part).value();
   t.sun.direction = Eigen::Vector3d(s.x, s.y, s.z);
 }
@@ -704,7 +703,7 @@ std::string describe_stack(const std::string& path) {
         if (known.site) {
           std::snprintf(line, sizeof line, "%-3d %-22s %9.5f %9.5f %8.3f %8.3f %8.3f %8.3f\n", i,
                         sky::format_iso8601(t.time).c_str(), t.site.latitude_deg, t.site.longitude_deg,
-                        t.sun.azimuth * kDeg, t.sun.elevation * kDeg, t.tilt_deg, t.roll_deg);
+                        t.sun.azimuth * kDegPerRad, t.sun.elevation * kDegPerRad, t.tilt_deg, t.roll_deg);
         } else {
           std::snprintf(line, sizeof line, "%-3d %-22s %9s %9s %8s %8s %8.3f %8.3f\n", i,
                         sky::format_iso8601(t.time).c_str(), "?", "?", "?", "?", t.tilt_deg, t.roll_deg);
@@ -722,8 +721,8 @@ std::string describe_stack(const std::string& path) {
       char px[64] = "outside";
       if (t.pole_pixel) std::snprintf(px, sizeof px, "(%.2f, %.2f)", t.pole_pixel->x(), t.pole_pixel->y());
       std::snprintf(line, sizeof line, "%-3d %-22s %9.5f %9.5f %8.3f %8.3f %9.4f %8.3f %8.3f %8s %17s\n", i,
-                    sky::format_iso8601(t.time).c_str(), t.site.latitude_deg, t.site.longitude_deg, t.sun.azimuth * kDeg,
-                    t.sun.elevation * kDeg, t.sun.declination * kDeg, t.sun.hour_angle * kDeg, t.heading_deg,
+                    sky::format_iso8601(t.time).c_str(), t.site.latitude_deg, t.site.longitude_deg, t.sun.azimuth * kDegPerRad,
+                    t.sun.elevation * kDegPerRad, t.sun.declination * kDegPerRad, t.sun.hour_angle * kDegPerRad, t.heading_deg,
                     t.pole_is_north ? "north" : "south", px);
       os << line;
     }

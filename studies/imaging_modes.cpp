@@ -10,11 +10,10 @@
 #include "camera/camera.h"
 #include "camera/orientation.h"
 #include "render/renderer.h"
+#include "sky/units.h"
 
 namespace skypol::studies {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Wrapped to (−90, 90] degrees: AoP is an axis, defined modulo 180°.
 double wrap90(double deg) {
@@ -27,7 +26,7 @@ double wrap90(double deg) {
 ModeImage render_mode(camera::Mapping mapping, int size, double fov_deg, const sky::SkyModel& sky,
                       const sky::Sun& sun) {
   if (size < 2) throw std::invalid_argument("render_mode: size must be >= 2");
-  const double theta_max = 0.5 * fov_deg * kDeg;
+  const double theta_max = 0.5 * fov_deg * kRadPerDeg;
   camera::Intrinsics k;
   k.width = k.height = size;
   k.cx = k.cy = 0.5 * (size - 1);
@@ -70,9 +69,9 @@ ModeImage render_mode(camera::Mapping mapping, int size, double fov_deg, const s
       const double phi = std::atan2(d_cam->y(), d_cam->x());
       m.inside[i] = 1;
       m.dop[i] = dolp[i];
-      m.aop_deg[i] = static_cast<float>(wrap90((phi - static_cast<double>(aolp[i])) / kDeg));
-      m.theta_deg[i] = static_cast<float>(std::acos(std::clamp(d.z(), -1.0, 1.0)) / kDeg);
-      m.azimuth_deg[i] = static_cast<float>(sky::azimuth_of(d) / kDeg);
+      m.aop_deg[i] = static_cast<float>(wrap90((phi - static_cast<double>(aolp[i])) / kRadPerDeg));
+      m.theta_deg[i] = static_cast<float>(std::acos(std::clamp(d.z(), -1.0, 1.0)) / kRadPerDeg);
+      m.azimuth_deg[i] = static_cast<float>(sky::azimuth_of(d) / kRadPerDeg);
     }
   return m;
 }
@@ -105,7 +104,7 @@ Similarity similarity(const ModeImage& a, const ModeImage& b, const sky::Sun& su
     if (region.anti_sun_half) {
       // Strictly more than 90° of azimuth from the sun (the zenith pixel, whose azimuth is
       // undefined, does not count).
-      const double da = static_cast<double>(a.azimuth_deg[i]) * kDeg - sun_az;
+      const double da = static_cast<double>(a.azimuth_deg[i]) * kRadPerDeg - sun_az;
       if (!(std::cos(da) < 0) || a.theta_deg[i] <= 0) continue;
     }
     ++s.pixels;

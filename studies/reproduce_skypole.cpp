@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "camera/presets.h"
+#include "sky/units.h"
 #include "studies/reproduce.h"
 #include "stack/image_exr.h"
 #include "render/recorded_stack.h"
@@ -32,8 +33,6 @@
 
 namespace skypol::studies {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Setup {
   scene::Scene scene;
@@ -130,7 +129,7 @@ void set1(const ReproduceOptions& o, const Setup& s) {
   const int w = stack.frames[0].width, h = stack.frames[0].height;
   const std::vector<float>& mask = stack.frames[0].channel("mask");
   const camera::Camera& cam = *stack.camera;
-  const double lat = s.rec.site.latitude_deg * kDeg;
+  const double lat = s.rec.site.latitude_deg * kRadPerDeg;
   std::map<std::string, std::vector<float>> ch;
   std::ostringstream curves, stats;
   curves << "pair,set,azimuth_deg,altitude_deg,u,v\n";
@@ -160,13 +159,13 @@ void set1(const ReproduceOptions& o, const Setup& s) {
     for (int set = 1; set <= 2; ++set)
       for (double az = 0; az < 360; az += 0.25) {
         const double alt = set == 1
-                               ? skypole::radial_invariance_altitude(az * kDeg, lat, s1.hour_angle, s2.hour_angle)
-                               : skypole::plane_invariance_altitude(az * kDeg, lat, dec, s1.hour_angle, s2.hour_angle);
+                               ? skypole::radial_invariance_altitude(az * kRadPerDeg, lat, s1.hour_angle, s2.hour_angle)
+                               : skypole::plane_invariance_altitude(az * kRadPerDeg, lat, dec, s1.hour_angle, s2.hour_angle);
         if (alt < 0) continue;
-        const Eigen::Vector3d P = sky::enu_direction(az * kDeg, alt);
+        const Eigen::Vector3d P = sky::enu_direction(az * kRadPerDeg, alt);
         const auto px = cam.project(P);
         if (!px || px->x() < 0 || px->y() < 0 || px->x() > w - 1 || px->y() > h - 1) continue;
-        curves << k << ',' << set << ',' << csv_num(az) << ',' << csv_num(alt / kDeg) << ','
+        curves << k << ',' << set << ',' << csv_num(az) << ',' << csv_num(alt / kRadPerDeg) << ','
                << csv_num(px->x()) << ',' << csv_num(px->y()) << '\n';
         if (set != 1) continue;
         // Rayleigh DoLP depends on (s·P)² only: the analytic difference at the curve's points,
@@ -185,9 +184,9 @@ void set1(const ReproduceOptions& o, const Setup& s) {
       }
     const double pole_alt = skypole::radial_invariance_altitude(0.0, lat, s1.hour_angle, s2.hour_angle);
     stats << k << ',' << sky::format_iso8601(f1.truth.time) << ',' << sky::format_iso8601(f2.truth.time)
-          << ',' << csv_num(s1.hour_angle / kDeg) << ',' << csv_num(s2.hour_angle / kDeg) << ',' << points
+          << ',' << csv_num(s1.hour_angle / kRadPerDeg) << ',' << csv_num(s2.hour_angle / kRadPerDeg) << ',' << points
           << ',' << csv_num(max_img) << ',' << csv_num(median) << ',' << csv_num(max_rayleigh) << ','
-          << csv_num(pole_alt / kDeg) << '\n';
+          << csv_num(pole_alt / kRadPerDeg) << '\n';
   }
   ch["mask"] = mask;
   stack::write_image_exr(o.out_dir + "/skypole_set1.exr", w, h, ch,
@@ -240,8 +239,8 @@ void protocol(const ReproduceOptions& o, const Setup& s) {
      << "width," << k.width << "\nheight," << k.height << '\n'
      << "scale," << csv_num(s.scale) << '\n'
      << "focal_px," << csv_num(k.fx) << '\n'
-     << "deg_per_px," << csv_num(1.0 / k.fx / kDeg) << '\n'
-     << "fov_deg," << csv_num(2 * s.rec.lens->max_field_angle() / kDeg) << '\n'
+     << "deg_per_px," << csv_num(1.0 / k.fx / kRadPerDeg) << '\n'
+     << "fov_deg," << csv_num(2 * s.rec.lens->max_field_angle() / kRadPerDeg) << '\n'
      << "max_dolp," << csv_num(spec.setup.sky.max_dolp) << '\n'
      << "day_first," << sky::format_iso8601(spec.day_times.front()) << '\n'
      << "day_last," << sky::format_iso8601(spec.day_times.back()) << '\n'

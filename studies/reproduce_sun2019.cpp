@@ -19,6 +19,7 @@
 #include "camera/ideal_magnification.h"
 #include "camera/magnification.h"
 #include "camera/radial_lens.h"
+#include "sky/units.h"
 #include "studies/reproduce.h"
 #include "stack/image_exr.h"
 #include "studies/imaging_modes.h"
@@ -30,7 +31,6 @@
 namespace skypol::studies {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 using camera::Mapping;
 
 // The four modes of their Fig. 7; the vertical projection (orthographic) is the reference.
@@ -85,7 +85,7 @@ void epsilon_tables(const ReproduceOptions& o, const Setup& setup) {
   for (const sky::Instant when : setup.times) {
     const sky::Sun sun = sky::sun_position(setup.site, when, setup.sun_options);
     const std::string utc = sky::format_iso8601(when);
-    pos << utc << ',' << csv_num(sun.elevation / kDeg) << ',' << csv_num(sun.azimuth / kDeg) << '\n';
+    pos << utc << ',' << csv_num(sun.elevation / kRadPerDeg) << ',' << csv_num(sun.azimuth / kRadPerDeg) << '\n';
     // Two ways to put the modes on one grid: the 140° field-of-view edge on the image circle of
     // every mode (a camera of that mapping filling the same sensor circle), or the horizon on the
     // unit circle as the paper's eqs. 10, 14, 18 normalise (the 140° view then a disk that differs
@@ -125,14 +125,14 @@ void magnification_table(const ReproduceOptions& o) {
   const int step = o.small ? 5 : 1;
   for (Mapping m : {Mapping::equidistant, Mapping::equisolid, Mapping::stereographic,
                     Mapping::orthographic, Mapping::perspective}) {
-    const double theta_max = (m == Mapping::perspective ? 80.0 : 90.0) * kDeg;
+    const double theta_max = (m == Mapping::perspective ? 80.0 : 90.0) * kRadPerDeg;
     camera::Intrinsics k;
     k.fx = k.fy = f;
     k.width = k.height = 4000;
     k.cx = k.cy = 1999.5;
     const camera::RadialLens lens(m, k, theta_max);
-    for (int deg = 0; deg * kDeg <= theta_max + 1e-9; deg += step) {
-      const double theta = deg * kDeg;
+    for (int deg = 0; deg * kRadPerDeg <= theta_max + 1e-9; deg += step) {
+      const double theta = deg * kRadPerDeg;
       const auto num = camera::magnification(lens, theta, 0.3);
       const camera::Magnification ref = camera::ideal_magnification(m, theta, f);
       if (!num) continue;

@@ -27,14 +27,13 @@
 #include "scene/truth.h"
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "studies/reproduce.h"
 #include "studies/reproduction_protocol.h"
 
 namespace skypol::studies {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // The atmosphere of this section: OPAC continental_clean, τ(550) = 0.1, ground albedo 0.1.
 sky::SkySpec vrte_spec(bool small) {
@@ -71,8 +70,8 @@ sky::Stokes in_vertical(const sky::SkyModel& m, const sky::Sun& sun, double alph
 
 sky::Sun sun_at(double azimuth_deg, double elevation_deg) {
   sky::Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
+  s.azimuth = azimuth_deg * kRadPerDeg;
+  s.elevation = elevation_deg * kRadPerDeg;
   s.direction = sky::enu_direction(s.azimuth, s.elevation);
   return s;
 }
@@ -107,7 +106,7 @@ void pole_over_day(const ReproduceOptions& o, const scene::Scene& scene, const s
   for (const sky::Instant t : scene.times) {
     const sky::Sun sun = sky::sun_position(scene.site, t, scene.sun_options);
     const sky::Stokes a = single.stokes(pole, e0, sun), b = vrte.stokes(pole, e0, sun);
-    os << sky::format_iso8601(t) << ',' << csv_num(sun.elevation / kDeg) << ',' << csv_num(a.dolp()) << ','
+    os << sky::format_iso8601(t) << ',' << csv_num(sun.elevation / kRadPerDeg) << ',' << csv_num(a.dolp()) << ','
        << csv_num(b.dolp()) << ',' << csv_num(b.s0) << '\n';
   }
   write_text(o.out_dir, "vrte_pole.csv", os.str());
@@ -116,25 +115,25 @@ void pole_over_day(const ReproduceOptions& o, const scene::Scene& scene, const s
 void neutral_points(const ReproduceOptions& o, const sky::SkyModel& vrte) {
   std::ostringstream os;
   os << "sun_elevation_deg,babinet_from_sun_deg,brewster_from_sun_deg,arago_from_antisun_deg\n";
-  const double step = 0.05 * kDeg;
+  const double step = 0.05 * kRadPerDeg;
   for (double el = 0.5; el <= 60.0 + 1e-9; el += (o.small ? 10.0 : 0.5)) {
     const sky::Sun sun = sun_at(180, el);
-    const double s = el * kDeg;
+    const double s = el * kRadPerDeg;
     // Babinet: walking up from near the sun towards the zenith, polarization turns from negative
     // (next to the sun) to positive; Brewster: the same walking down towards the horizon; Arago:
     // walking down from the zenith on the anti-sun side towards the horizon, + to −.
     std::optional<double> babinet, brewster, arago;
     // From the zenith side towards the sun: the first + → − crossing is the Babinet point.
-    if (auto x = zero_crossing(vrte, sun, std::min(s + 60 * kDeg, std::numbers::pi / 2 + s), s + 0.5 * kDeg, step))
-      babinet = (*x - s) / kDeg;
+    if (auto x = zero_crossing(vrte, sun, std::min(s + 60 * kRadPerDeg, std::numbers::pi / 2 + s), s + 0.5 * kRadPerDeg, step))
+      babinet = (*x - s) / kRadPerDeg;
     // From the horizon (just above it) towards the sun: Brewster, if the sun is high enough.
-    if (s > 2 * kDeg) {
-      if (auto x = zero_crossing(vrte, sun, std::max(0.2 * kDeg, s - 60 * kDeg), s - 0.5 * kDeg, step))
-        brewster = (s - *x) / kDeg;
+    if (s > 2 * kRadPerDeg) {
+      if (auto x = zero_crossing(vrte, sun, std::max(0.2 * kRadPerDeg, s - 60 * kRadPerDeg), s - 0.5 * kRadPerDeg, step))
+        brewster = (s - *x) / kRadPerDeg;
     }
     // From the zenith towards the anti-sun horizon (α → π): Arago, while it is above the horizon.
-    if (auto x = zero_crossing(vrte, sun, std::numbers::pi / 2 + 1 * kDeg, std::numbers::pi - 0.2 * kDeg, step))
-      arago = (std::numbers::pi + s - *x) / kDeg;
+    if (auto x = zero_crossing(vrte, sun, std::numbers::pi / 2 + 1 * kRadPerDeg, std::numbers::pi - 0.2 * kRadPerDeg, step))
+      arago = (std::numbers::pi + s - *x) / kRadPerDeg;
     os << csv_num(el) << ',' << opt_num(babinet) << ',' << opt_num(brewster) << ',' << opt_num(arago) << '\n';
   }
   write_text(o.out_dir, "vrte_neutral_points.csv", os.str());
@@ -157,7 +156,7 @@ void max_dolp(const ReproduceOptions& o, const scene::Scene& scene) {
       const sky::LayerOptics optics = sky::layer_optics(wl, air.pressure_hpa, air.altitude_m, air.latitude_deg, s.aerosol);
       double best = 0, at = 0;
       for (double a = 0.5; a < 179.5; a += 0.25) {  // the solar vertical, horizon to horizon
-        const sky::Stokes st = in_vertical(*m, sun, a * kDeg);
+        const sky::Stokes st = in_vertical(*m, sun, a * kRadPerDeg);
         if (st.dolp() > best) best = st.dolp(), at = std::abs(a - 30.0);
       }
       os << csv_num(wl) << ',' << csv_num(tau) << ',' << csv_num(optics.tau_rayleigh) << ','

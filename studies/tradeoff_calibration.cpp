@@ -20,6 +20,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "sky/units.h"
 #include "skypole/cloud_share.h"
 #include "skypole/estimate.h"
 #include "skypole/evaluate.h"
@@ -32,7 +33,6 @@
 namespace skypol::studies::tradeoff {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr double kLieDeg = 5.0;    // an answer this far off, while valid, is a lie
 constexpr double kLieSigma = 5.0;  // … or this many of its own σ off
 
@@ -202,7 +202,7 @@ void score_answer(Table& rows, Outcome& out, const Draw& d, const stack::Stack& 
       .set("is_north", e.is_north);
   // The raw jackknife covariances (uncertainty.h; deg², axes azimuth and altitude), so that
   // scripts/calibration_tune.py can try any factors on them without running anything again.
-  const double d2 = 1.0 / (kDeg * kDeg);
+  const double d2 = 1.0 / (kRadPerDeg * kRadPerDeg);
   const Eigen::Matrix2d& cf = e.jackknife_frames_rad2;
   const Eigen::Matrix2d& cs = e.jackknife_sectors_rad2;
   // The answer's offset from the true NCP in the tangent plane there (azimuth and altitude axes of
@@ -210,11 +210,11 @@ void score_answer(Table& rows, Outcome& out, const Draw& d, const stack::Stack& 
   // the 6-digit truth columns cannot do for errors of 0.001°.
   skypole::PoleEstimate truth_pole;
   {
-    const double h = -d.heading * kDeg, lat = d.site.latitude_deg * kDeg;
+    const double h = -d.heading * kRadPerDeg, lat = d.site.latitude_deg * kRadPerDeg;
     truth_pole.pole_level = Eigen::Vector3d(std::sin(h) * std::cos(lat), std::cos(h) * std::cos(lat), std::sin(lat));
     truth_pole.is_north = true;
   }
-  const Eigen::Vector2d off = skypole::tangent_offset(truth_pole, e) / kDeg;
+  const Eigen::Vector2d off = skypole::tangent_offset(truth_pole, e) / kRadPerDeg;
   rows.set("offset_az_deg", off.x()).set("offset_alt_deg", off.y());
   rows.set("sigma_frames_deg", skypole::sigma_deg_of(cf))
       .set("frame_groups", e.jackknife_frame_groups)

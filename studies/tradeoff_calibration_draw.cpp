@@ -20,16 +20,15 @@
 #include "scene/truth.h"
 #include "sky/sky_spec.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "studies/tradeoff_calibration.h"
 #include "studies/tradeoff_setup.h"
 
 namespace skypol::studies::tradeoff::calibration {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
-
 double sun_elevation_deg(const sky::Site& site, double unix_s) {
-  return sky::sun_position(site, sky::Instant{unix_s}).elevation / kDeg;
+  return sky::sun_position(site, sky::Instant{unix_s}).elevation / kRadPerDeg;
 }
 
 constexpr Population kMixed{70, 20, 660, 0.45, 0.25, 0.15, 0.65, false, 0};
@@ -92,8 +91,8 @@ std::shared_ptr<const camera::Camera> make_camera(const Draw& d, int binning) {
   spec.model = d.lens;
   spec.width = sp.width / binning;
   spec.height = sp.height / binning;
-  const double theta_max = (d.lens == "orthographic" ? 90.0 : 92.5) * kDeg;
-  spec.fov_deg = 2 * theta_max / kDeg;
+  const double theta_max = (d.lens == "orthographic" ? 90.0 : 92.5) * kRadPerDeg;
+  spec.fov_deg = 2 * theta_max / kRadPerDeg;
   // The image circle just inside the sensor's height.
   const double r = 0.49 * spec.height;
   if (d.lens == "equidistant") spec.fx = r / theta_max;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "skypole/sky_images.h"
 #include "skypole/uncertainty.h"
 #include "studies/tradeoff_calibration.h"
 #include "studies/tradeoff_table.h"
@@ -15,10 +16,7 @@ namespace {
 // The q-quantile of v by rank ⌈q·n⌉ (the smallest value with at least q of them at or below it);
 // NaN (an empty field) for no values.
 double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
+  return v.empty() ? std::nan("") : skypole::quantile(std::move(v), q, skypole::QuantileRank::nearest);
 }
 
 // One row of t for method m over the scenes of one sky model (every scene: sky empty, the row of

@@ -27,6 +27,7 @@
 
 #include "render/recorded_stack.h"
 #include "scene/scene.h"
+#include "sky/units.h"
 #include "stack/stack_io.h"
 #include "studies/tradeoff_scoring.h"
 #include "studies/tradeoff_setup.h"
@@ -96,7 +97,7 @@ void compare(const stack::Stack& mem, const stack::Stack& back, const std::strin
       if (b[i] != stored(a[i], half && !stays_float)) e.exact = false;
       if (mask[i] <= 0) continue;
       double d = std::abs(static_cast<double>(b[i]) - static_cast<double>(a[i]));
-      if (angle) d = std::min(d, std::numbers::pi - std::fmod(d, std::numbers::pi)) * 180.0 / std::numbers::pi;
+      if (angle) d = deg_from_rad(std::min(d, std::numbers::pi - std::fmod(d, std::numbers::pi)));
       if (!std::isfinite(d)) d = HUGE_VAL;
       e.max = std::max(e.max, d);
       e.ss += d * d;

@@ -13,13 +13,12 @@
 #include "camera/kannala_brandt.h"
 #include "camera/lens_factory.h"
 #include "camera/presets.h"
+#include "sky/units.h"
 #include "studies/tradeoff_studies.h"
 #include "studies/tradeoff_table.h"
 
 namespace skypol::studies::tradeoff {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 struct Inverse {
   double theta;
@@ -86,7 +85,7 @@ void study_lens_inverse(const StudyOptions& o) {
   k.cx = 0.5 * (k.width - 1);
   k.cy = 0.5 * (k.height - 1);
   // 2 sin(θ/2) = θ (1 − θ²/24 + θ⁴/1920 − θ⁶/322560 + θ⁸/92897280 − …)
-  const camera::KannalaBrandtLens kb(k, {-1.0 / 24, 1.0 / 1920, -1.0 / 322560, 1.0 / 92897280}, 92.5 * kDeg);
+  const camera::KannalaBrandtLens kb(k, {-1.0 / 24, 1.0 / 1920, -1.0 / 322560, 1.0 / 92897280}, 92.5 * kRadPerDeg);
   const int step = o.small ? 64 : 4;
   std::vector<Eigen::Vector2d> pixels;
   for (int y = 0; y < k.height; y += step)

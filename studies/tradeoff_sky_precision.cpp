@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include "sky/units.h"
 #include "studies/tradeoff_setup.h"
 #include "studies/tradeoff_studies.h"
 #include "studies/tradeoff_table.h"
@@ -66,7 +67,7 @@ void study_sky_precision(const StudyOptions& o) {
       if (r.dolp() > 0.01) {
         double da = std::abs(f.aolp() - r.aolp());
         da = std::min(da, std::numbers::pi - da);  // AoLP is defined mod 180°
-        amax = std::max(amax, da * 180 / std::numbers::pi);
+        amax = std::max(amax, deg_from_rad(da));
       }
     }
     t.row().set("sky", v.name).set("precision", "double").set("ns_per_ray", 1e9 * sd / n)

@@ -9,6 +9,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include "sky/units.h"
+
 namespace skypol::camera::detail {
 
 // A distortion map p ↦ q(p) with its Jacobian.
@@ -55,7 +57,7 @@ std::optional<double> first_fold(Q q_of, double r_max) {
   for (int i = 1; i <= kRadii; ++i) {
     const double r = r_max * i / kRadii;
     for (int j = 0; j < kAzimuths; ++j) {
-      const double phi = 2 * 3.14159265358979323846 * j / kAzimuths;
+      const double phi = 2 * kPi * j / kAzimuths;
       const double det = q_of(Eigen::Vector2d(r * std::cos(phi), r * std::sin(phi))).jacobian.determinant();
       if (!(det > 0)) return r;
     }

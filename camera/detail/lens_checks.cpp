@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sky/units.h"
+
 namespace skypol::camera::detail {
 
 void lens_fail(const std::string& message) { throw std::invalid_argument(message); }
@@ -55,7 +57,7 @@ double half_fov(const LensSpec& s, bool required) {
   }
   if (!(std::isfinite(*s.fov_deg) && *s.fov_deg > 0 && *s.fov_deg <= 360))
     lens_fail("fov_deg must be in (0, 360], got " + lens_number(*s.fov_deg));
-  return 0.5 * *s.fov_deg * std::numbers::pi / 180;
+  return rad_from_deg(0.5 * *s.fov_deg);
 }
 
 void need_coefficients(const LensSpec& s, std::size_t n, const char* order) {

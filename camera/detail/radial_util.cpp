@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sky/units.h"
+
 namespace skypol::camera::detail {
 
 std::optional<Polar> polar_of(const Eigen::Vector3d& d) {
@@ -46,7 +48,7 @@ Intrinsics rescale_intrinsics(const Intrinsics& k, double s) {
 
 std::string format_deg(double rad) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f°", rad * 180 / std::numbers::pi);
+  std::snprintf(buf, sizeof buf, "%.1f°", deg_from_rad(rad));
   return buf;
 }
 

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "camera/lens.h"
+#include "sky/units.h"
 
 namespace skypol::camera::detail {
 
@@ -66,7 +67,7 @@ const SinCosTable& sincos_table();
 // nearest node θi, then the angle-addition formula with the Taylor series of Δ = θ − θi
 // (|Δ| ≤ π/512, so the terms kept leave < 1e-25). Δ is exact (Sterbenz).
 inline void sincos_0_pi(const SinCosTable& t, double theta, double& s, double& c) {
-  const double q = index_clamp(theta * (SinCosTable::kNodes / 3.14159265358979323846) + 0.5, 0.0,
+  const double q = index_clamp(theta * (SinCosTable::kNodes / kPi) + 0.5, 0.0,
                                static_cast<double>(SinCosTable::kNodes));
   const int i = static_cast<int>(q);
   const double* nodes = t.theta;

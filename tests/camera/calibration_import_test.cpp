@@ -15,13 +15,13 @@
 #include "camera/mei_lens.h"
 #include "camera/thin_prism_fisheye.h"
 #include "camera_test_util.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
 using skypol::testing::dir;
+using skypol::kRadPerDeg;
 
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180;
 
 // A source tool's projection of a camera-frame point (x, y, z) to ITS pixel coordinates.
 using Oracle = std::function<Eigen::Vector2d(double x, double y, double z)>;
@@ -35,7 +35,7 @@ double worst_against(const Lens& lens, const Oracle& oracle, double theta_max_de
   double worst = 0;
   for (double t = 0; t <= theta_max_deg + 1e-9; t += theta_max_deg / 20)
     for (int j = 0; j < 24; ++j) {
-      const Eigen::Vector3d d = dir(t * kDeg, j * 15 * kDeg + 0.1);
+      const Eigen::Vector3d d = dir(t * kRadPerDeg, j * 15 * kRadPerDeg + 0.1);
       const auto p = lens.project(d);
       REQUIRE(p);
       const Eigen::Vector2d q = oracle(d.x(), d.y(), d.z()) + Eigen::Vector2d(shift, shift);
@@ -163,14 +163,14 @@ TEST_CASE("thin prism fisheye: folds are refused, the field of view is fitted to
     for (double v : {-0.5, 1023.5}) {
       const auto corner = lens->ray({u, v});
       REQUIRE(corner);
-      widest = std::max(widest, 2 * std::acos(corner->z()) / kDeg);
+      widest = std::max(widest, 2 * std::acos(corner->z()) / kRadPerDeg);
     }
   CHECK(widest == Approx(*s.fov_deg).epsilon(1e-9));
   // A strong negative k1 folds the map: θd = θ(1 − 0.3θ²) turns over at θ = 1/√0.9 = 60.4°.
   Intrinsics k = skypol::testing::imx250();
-  CHECK_THROWS_WITH(ThinPrismFisheyeLens(k, {-0.3, 0, 0, 0, 0, 0, 0, 0}, 90 * kDeg),
+  CHECK_THROWS_WITH(ThinPrismFisheyeLens(k, {-0.3, 0, 0, 0, 0, 0, 0, 0}, 90 * kRadPerDeg),
                     Catch::Contains("not one-to-one") && Catch::Contains("60."));
-  CHECK_NOTHROW(ThinPrismFisheyeLens(k, {-0.3, 0, 0, 0, 0, 0, 0, 0}, 60 * kDeg));
+  CHECK_NOTHROW(ThinPrismFisheyeLens(k, {-0.3, 0, 0, 0, 0, 0, 0, 0}, 60 * kRadPerDeg));
 }
 
 namespace {
@@ -266,7 +266,7 @@ TEST_CASE("OpenCV FileStorage: cv::fisheye and cv::omnidir give OpenCV's pixels"
     WARN("cv::omnidir: worst difference " << wo << " px");
     CHECK(wo < 1e-9);
     CHECK(worst_round_trip(*om) < 1e-6);
-    CHECK(om->max_field_angle() > 100 * kDeg);
+    CHECK(om->max_field_angle() > 100 * kRadPerDeg);
   }
 }
 
@@ -417,22 +417,22 @@ TEST_CASE("basalt calibration.json: ds and kb4 by index", "[calibration]") {
 TEST_CASE("EUCM with beta = 1 is Mei's model with xi = alpha/(1 - alpha), f/(1 - alpha)", "[calibration]") {
   Intrinsics k = skypol::testing::imx250(300);
   const double a = 0.6;
-  const EucmLens e(k, a, 1.0, 100 * kDeg);
+  const EucmLens e(k, a, 1.0, 100 * kRadPerDeg);
   Intrinsics km = k;
   km.fx = km.fy = 300 / (1 - a);
-  const MeiLens m(km, 0, a / (1 - a), {0, 0, 0, 0}, 100 * kDeg);
+  const MeiLens m(km, 0, a / (1 - a), {0, 0, 0, 0}, 100 * kRadPerDeg);
   for (double t = 0; t <= 100; t += 5)
     for (double phi : {0.2, 1.9, 4.4}) {
-      const auto p = e.project(dir(t * kDeg, phi));
-      const auto q = m.project(dir(t * kDeg, phi));
+      const auto p = e.project(dir(t * kRadPerDeg, phi));
+      const auto q = m.project(dir(t * kRadPerDeg, phi));
       REQUIRE(p);
       REQUIRE(q);
       CHECK((*p - *q).norm() < 1e-9);
     }
   CHECK(worst_round_trip(e) < 1e-6);
   // Mei's limit for ξ = 1.5 is acos(−1/1.5) = 131.8°.
-  CHECK(MeiLens::valid_angle(1.5) / kDeg == Approx(131.8103149));
-  CHECK_THROWS_WITH(MeiLens(km, 0, 1.5, {0, 0, 0, 0}, 132 * kDeg), Catch::Contains("exceeds the unified (Mei) model's limit of 131.8°"));
+  CHECK(MeiLens::valid_angle(1.5) / kRadPerDeg == Approx(131.8103149));
+  CHECK_THROWS_WITH(MeiLens(km, 0, 1.5, {0, 0, 0, 0}, 132 * kRadPerDeg), Catch::Contains("exceeds the unified (Mei) model's limit of 131.8°"));
 }
 
 TEST_CASE("the new models bin exactly: a binned copy sees every direction at (p + 1/2)/2 - 1/2", "[calibration]") {

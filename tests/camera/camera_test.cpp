@@ -9,16 +9,16 @@
 #include "camera/orientation.h"
 #include "camera/radial_lens.h"
 #include "camera_test_util.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
 using namespace skypol::testing;
+using skypol::kPi, skypol::kRadPerDeg;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180;
 
 std::shared_ptr<const Lens> fisheye185() {
-  return std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kDeg);
+  return std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg);
 }
 
 // The pixel that sees camera-frame direction (θ, φ) on the equidistant lens (by hand).
@@ -59,7 +59,7 @@ TEST_CASE("camera ray at the principal point: d = optical axis, e0 = camera +x i
 TEST_CASE("the north celestial pole lands where the heading says", "[camera]") {
   // Marseille (SkyPole): latitude 43.287°. NCP at azimuth 0, elevation = latitude; zenith angle
   // 46.713° → r = f·0.81530 = 425.37 px from the centre.
-  const double lat = 43.286987 * kDeg;
+  const double lat = 43.286987 * kRadPerDeg;
   const Eigen::Vector3d ncp(0, std::cos(lat), std::sin(lat));
   const double r = kF * (kPi / 2 - lat);
   {  // heading 0: image-up North → NCP straight above the centre.
@@ -88,31 +88,31 @@ TEST_CASE("projected transport differs from meridional far off-axis by hand-comp
     {
       // θ = 80°, φ = 45°: e0 in the camera frame is (1 − c²(1−cosθ), −cs(1−cosθ), −sinθ·c) with
       // c = s = 1/√2, whose sensor-plane angle is −atan(tan²(θ/2)) = −atan(tan²40°) = −35.149°.
-      auto ray = proj.ray(pixel_of(80 * kDeg, 45 * kDeg));
+      auto ray = proj.ray(pixel_of(80 * kRadPerDeg, 45 * kRadPerDeg));
       REQUIRE(ray);
-      const double want = -std::atan(std::pow(std::tan(40 * kDeg), 2));
-      CHECK(want / kDeg == Approx(-35.149).margin(1e-3));
+      const double want = -std::atan(std::pow(std::tan(40 * kRadPerDeg), 2));
+      CHECK(want / kRadPerDeg == Approx(-35.149).margin(1e-3));
       CHECK(proj.sensor_angle(*ray, 0) == Approx(want).margin(1e-12));
       CHECK(merid.sensor_angle(*ray, 0) == 0);
     }
     {
       // θ = 80°, φ = 0: e0 = (cos θ, 0, −sin θ), d × e0 = (0, 1, 0) in the camera frame, so light
       // at 30° shows at atan(tan 30° / cos 80°) = 73.26° when projected, 30° meridionally.
-      auto ray = proj.ray(pixel_of(80 * kDeg, 0));
+      auto ray = proj.ray(pixel_of(80 * kRadPerDeg, 0));
       REQUIRE(ray);
-      const double want = std::atan(std::tan(30 * kDeg) / std::cos(80 * kDeg));
-      CHECK(want / kDeg == Approx(73.26).margin(1e-2));
-      CHECK(proj.sensor_angle(*ray, 30 * kDeg) == Approx(want).margin(1e-12));
-      CHECK(merid.sensor_angle(*ray, 30 * kDeg) == 30 * kDeg);
+      const double want = std::atan(std::tan(30 * kRadPerDeg) / std::cos(80 * kRadPerDeg));
+      CHECK(want / kRadPerDeg == Approx(73.26).margin(1e-2));
+      CHECK(proj.sensor_angle(*ray, 30 * kRadPerDeg) == Approx(want).margin(1e-12));
+      CHECK(merid.sensor_angle(*ray, 30 * kRadPerDeg) == 30 * kRadPerDeg);
       // −60° projects to atan(tan(−60°)/cos 80°) = −84.50°, inside (−90°, 90°].
-      CHECK(proj.sensor_angle(*ray, -60 * kDeg) ==
-            Approx(std::atan(std::tan(-60 * kDeg) / std::cos(80 * kDeg))).margin(1e-12));
+      CHECK(proj.sensor_angle(*ray, -60 * kRadPerDeg) ==
+            Approx(std::atan(std::tan(-60 * kRadPerDeg) / std::cos(80 * kRadPerDeg))).margin(1e-12));
       // 90° stays 90° (never −90°): the wrap is to (−π/2, π/2].
       CHECK(proj.sensor_angle(*ray, kPi / 2) == Approx(kPi / 2).margin(1e-12));
     }
     {
       // Near the axis the two agree.
-      auto ray = proj.ray(pixel_of(1 * kDeg, 1.0));
+      auto ray = proj.ray(pixel_of(1 * kRadPerDeg, 1.0));
       REQUIRE(ray);
       CHECK(proj.sensor_angle(*ray, 0.4) == Approx(0.4).margin(1e-3));
     }
@@ -133,7 +133,7 @@ TEST_CASE("meridional transport keeps the angle to the meridional plane: E·m = 
   Camera cam(fisheye185(), Eigen::Matrix3d::Identity());
   for (double theta : {0.2, 1.0, 1.55, 1.6})
     for (double phi : {0.5, 2.5, -1.0})
-      for (double a : {0.0, 50 * kDeg, -80 * kDeg}) {
+      for (double a : {0.0, 50 * kRadPerDeg, -80 * kRadPerDeg}) {
         auto ray = cam.ray(pixel_of(theta, phi));
         REQUIRE(ray);
         const Eigen::Vector3d m(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi),
@@ -158,7 +158,7 @@ TEST_CASE("projected transport at exactly 90° off-axis: E along the axis has no
   CHECK(std::isfinite(proj.sensor_angle(*ray, 1e-13)));
   CHECK(proj.sensor_angle(*ray, kPi / 2) == Approx(kPi / 2).margin(1e-12));
   // Beyond 90° (the 185° lens' edge) the angles stay finite and in (−90°, 90°].
-  auto edge = proj.ray(pixel_of(92.5 * kDeg, 0.7));
+  auto edge = proj.ray(pixel_of(92.5 * kRadPerDeg, 0.7));
   REQUIRE(edge);
   for (double a = -1.5; a <= 1.5; a += 0.1) {
     const double s = proj.sensor_angle(*edge, a);

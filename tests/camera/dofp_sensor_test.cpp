@@ -11,11 +11,12 @@
 #include <tbb/global_control.h>
 
 #include "camera/dofp_sensor.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
+using skypol::kRadPerDeg;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180;
 
 // Noise-free sensor: 1 DN per electron, 4000 e per unit radiance (exposure 1 ms).
 DofpSensor clean(int w = 64, int h = 48) {
@@ -73,7 +74,7 @@ TEST_CASE("Malus' law behind each micro-polarizer, with extinction ratio and ang
   // A 0° pixel rotated by +5°: ½(1 + cos 10°) of 0°-polarized light.
   s.extinction_ratio = 1e12;
   s.angle_error_deg = {0, 0, 0, 5};
-  CHECK(polarizer_radiance(s, 1, 1, 1, 1, 0) == Approx(0.5 * (1 + std::cos(10 * kDeg))));
+  CHECK(polarizer_radiance(s, 1, 1, 1, 1, 0) == Approx(0.5 * (1 + std::cos(10 * kRadPerDeg))));
 }
 
 TEST_CASE("noise-free uniform field: raw values and demosaic recover Stokes to quantization", "[sensor]") {
@@ -243,7 +244,7 @@ TEST_CASE("calibrated demosaic undoes extinction ratio and angle errors", "[sens
   s.extinction_ratio = 50;
   s.angle_error_deg = {1.5, -2, 0.7, 3};
   // Light with DoLP 0.8 at AoLP 20°: S = (1, 0.8 cos 40°, 0.8 sin 40°).
-  const float s1 = static_cast<float>(0.8 * std::cos(40 * kDeg)), s2 = static_cast<float>(0.8 * std::sin(40 * kDeg));
+  const float s1 = static_cast<float>(0.8 * std::cos(40 * kRadPerDeg)), s2 = static_cast<float>(0.8 * std::sin(40 * kRadPerDeg));
   const Field f = uniform(s, 1, s1, s2);
   const auto raw = simulate_raw(s, f.s0, f.s1, f.s2, 0);
   const StokesPlanes cal = demosaic_bilinear(s, raw, Demosaic::calibrated);
@@ -253,9 +254,9 @@ TEST_CASE("calibrated demosaic undoes extinction ratio and angle errors", "[sens
   CHECK(cal.s1[i] == Approx(s1).margin(3e-4));
   CHECK(cal.s2[i] == Approx(s2).margin(3e-4));
   // The nominal pipeline is off by the errors: its AoLP misses 20° by more than 0.1°.
-  const double aolp_nom = 0.5 * std::atan2(double{nom.s2[i]}, double{nom.s1[i]}) / kDeg;
+  const double aolp_nom = 0.5 * std::atan2(double{nom.s2[i]}, double{nom.s1[i]}) / kRadPerDeg;
   CHECK(std::abs(aolp_nom - 20) > 0.1);
-  CHECK(0.5 * std::atan2(double{cal.s2[i]}, double{cal.s1[i]}) / kDeg == Approx(20).margin(0.02));
+  CHECK(0.5 * std::atan2(double{cal.s2[i]}, double{cal.s1[i]}) / kRadPerDeg == Approx(20).margin(0.02));
 }
 
 TEST_CASE("colour DoFP (IMX250MYR): RGGB over polarizer blocks, per-band Stokes recovered", "[sensor]") {

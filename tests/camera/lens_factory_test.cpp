@@ -8,11 +8,12 @@
 
 #include "camera/colmap_import.h"
 #include "camera/lens_factory.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
+using skypol::kRadPerDeg;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180;
 
 LensSpec fujinon_on_imx250() {
   LensSpec s;
@@ -31,7 +32,7 @@ TEST_CASE("make_lens builds the 185° fisheye from mm and µm", "[factory]") {
   CHECK(lens->name() == "equidistant");
   CHECK(lens->intrinsics().fx == Approx(1.8 / 3.45e-3));
   CHECK(lens->intrinsics().cx == 1223.5);
-  CHECK(lens->max_field_angle() == Approx(92.5 * kDeg));
+  CHECK(lens->max_field_angle() == Approx(92.5 * kRadPerDeg));
   LensSpec b = fujinon_on_imx250();
   b.binning = 2;
   const auto lb = make_lens(b);
@@ -51,11 +52,11 @@ TEST_CASE("make_lens builds every model", "[factory]") {
   s.model = "tabulated";
   s.focal_mm.reset();
   s.fov_deg = 180;  // cut the table at 90°
-  for (int d = 10; d <= 90; d += 10) s.table.emplace_back(d, 1.8 * d * kDeg);
-  s.table.emplace_back(95, 1.8 * 95 * kDeg);
+  for (int d = 10; d <= 90; d += 10) s.table.emplace_back(d, 1.8 * d * kRadPerDeg);
+  s.table.emplace_back(95, 1.8 * 95 * kRadPerDeg);
   const auto t = make_lens(s);
   CHECK(t->name() == "tabulated");
-  CHECK(t->max_field_angle() == Approx(90 * kDeg));
+  CHECK(t->max_field_angle() == Approx(90 * kRadPerDeg));
   CHECK(t->project({1, 0, 0})->x() == Approx(1223.5 + 1.8 / 3.45e-3 * std::numbers::pi / 2));
   LensSpec o;
   o.model = "ocam";
@@ -92,7 +93,7 @@ TEST_CASE("make_lens names the bad field", "[factory]") {
   s.coefficients = {0.1, 0.2};
   CHECK_THROWS_WITH(make_lens(s), Catch::Contains("kannala_brandt needs 4"));
   // θd = θ − aθ³ turns over at 1/√(3a) = 87.3° for a = 1/(3·(87.3°)²).
-  const double tt = 87.3 * kDeg;
+  const double tt = 87.3 * kRadPerDeg;
   s.coefficients = {-1 / (3 * tt * tt), 0, 0, 0};
   CHECK_THROWS_WITH(make_lens(s),
                     "distortion curve not monotone over the declared field of view (turns over at 87.3°)");
@@ -121,7 +122,7 @@ TEST_CASE("COLMAP OPENCV_FISHEYE line: same pixels as COLMAP after the 0.5 px ce
   const auto lens = make_lens(s);
   // COLMAP's pixel of the direction 60° off-axis towards +x: (cx + f·θd(θ), cy) in its own
   // convention, i.e. 0.5 px less in ours.
-  const double t = 60 * kDeg, td = t * (1 + 0.01 * t * t - 0.002 * std::pow(t, 4));
+  const double t = 60 * kRadPerDeg, td = t * (1 + 0.01 * t * t - 0.002 * std::pow(t, 4));
   const auto p = lens->project({std::sin(t), 0, std::cos(t)});
   REQUIRE(p);
   CHECK(p->x() == Approx(1224 + 521.739 * td - 0.5).epsilon(1e-14));
@@ -139,7 +140,7 @@ TEST_CASE("COLMAP PINHOLE line and its errors", "[factory]") {
   CHECK(s.model == "perspective");
   CHECK(*s.fy == 500);
   // Farthest corner (−0.5 − 319.5, −0.5 − 239.5) = 400 px → θ = atan(0.8), FOV 77.32°.
-  CHECK(*s.fov_deg == Approx(2 * std::atan(0.8) / kDeg));
+  CHECK(*s.fov_deg == Approx(2 * std::atan(0.8) / kRadPerDeg));
   CHECK(make_lens(s)->name() == "perspective");
   CHECK_THROWS_WITH(lens_spec_from_colmap("1 FOV 640 480 300 320 240 0.9"),
                     Catch::Contains("not supported") && Catch::Contains("OPENCV_FISHEYE"));

@@ -17,13 +17,13 @@
 #include "camera/radial_lens.h"
 #include "camera/tabulated_lens.h"
 #include "camera_test_util.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
 using namespace skypol::testing;
+using skypol::kPi, skypol::kRadPerDeg;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180;
 const std::string kOcamFile = std::string(SKYPOL_SOURCE_DIR) + "/tests/camera/data/ocam_calib_results.txt";
 
 // Worst |project(ray(p)) − p| over pixels covering the whole image circle: the images of
@@ -74,23 +74,23 @@ void check_masked_outside(const Lens& lens) {
 }  // namespace
 
 TEST_CASE("Kannala-Brandt with k = 0 is the equidistant lens; k1 = 0.1 at 1 rad gives θd = 1.1", "[lens]") {
-  KannalaBrandtLens kb0(imx250(), {0, 0, 0, 0}, 92.5 * kDeg);
+  KannalaBrandtLens kb0(imx250(), {0, 0, 0, 0}, 92.5 * kRadPerDeg);
   const auto p = kb0.project({1, 0, 0});
   REQUIRE(p);
   CHECK(p->x() == Approx(1223.5 + kF * kPi / 2).epsilon(1e-14));
-  KannalaBrandtLens kb1(imx250(), {0.1, 0, 0, 0}, 92.5 * kDeg);
+  KannalaBrandtLens kb1(imx250(), {0.1, 0, 0, 0}, 92.5 * kRadPerDeg);
   const auto q = kb1.project(dir(1.0, kPi / 2));  // straight down the image
   REQUIRE(q);
   CHECK(q->x() == Approx(1223.5).margin(1e-9));
   CHECK(q->y() == Approx(1023.5 + kF * 1.1).epsilon(1e-14));
   // k2..k4 enter as θ⁵, θ⁷, θ⁹: at θ = 0.5, 0.5·(1 + 0.01·0.0625 + 0.02·0.015625 − 0.001·0.00390625)
-  KannalaBrandtLens kb2(imx250(), {0, 0.01, 0.02, -0.001}, 92.5 * kDeg);
+  KannalaBrandtLens kb2(imx250(), {0, 0.01, 0.02, -0.001}, 92.5 * kRadPerDeg);
   CHECK(kb2.distorted(0.5) == Approx(0.5 * (1 + 0.000625 + 0.0003125 - 0.00000390625)).epsilon(1e-15));
 }
 
 TEST_CASE("Kannala-Brandt past 90°: θ from atan2, not atan", "[lens]") {
-  KannalaBrandtLens kb(imx250(), {-0.01, 0.002, 0, 0}, 92.5 * kDeg);
-  const double t = 92 * kDeg;
+  KannalaBrandtLens kb(imx250(), {-0.01, 0.002, 0, 0}, 92.5 * kRadPerDeg);
+  const double t = 92 * kRadPerDeg;
   const auto p = kb.project(dir(t, 0));  // z < 0
   REQUIRE(p);
   const double t2 = t * t;
@@ -99,43 +99,43 @@ TEST_CASE("Kannala-Brandt past 90°: θ from atan2, not atan", "[lens]") {
 
 TEST_CASE("Kannala-Brandt that turns over near the edge: rejected, or the FOV is cut there", "[lens]") {
   // θd = θ − aθ³ turns over where 1 − 3aθ² = 0; a = 1/(3·θt²) puts it at θt = 93°.
-  const double tt = 93 * kDeg, a = 1 / (3 * tt * tt);
-  CHECK_NOTHROW(KannalaBrandtLens(imx250(), {-a, 0, 0, 0}, 92.5 * kDeg));
-  CHECK_THROWS_WITH(KannalaBrandtLens(imx250(), {-a, 0, 0, 0}, 95 * kDeg),
+  const double tt = 93 * kRadPerDeg, a = 1 / (3 * tt * tt);
+  CHECK_NOTHROW(KannalaBrandtLens(imx250(), {-a, 0, 0, 0}, 92.5 * kRadPerDeg));
+  CHECK_THROWS_WITH(KannalaBrandtLens(imx250(), {-a, 0, 0, 0}, 95 * kRadPerDeg),
                     "distortion curve not monotone over the declared field of view (turns over at 93.0°)");
-  KannalaBrandtLens cut(imx250(), {-a, 0, 0, 0}, 95 * kDeg, KannalaBrandtLens::OnTurnover::clamp_fov);
+  KannalaBrandtLens cut(imx250(), {-a, 0, 0, 0}, 95 * kRadPerDeg, KannalaBrandtLens::OnTurnover::clamp_fov);
   CHECK(cut.max_field_angle() == Approx(tt).epsilon(1e-12));
-  CHECK_FALSE(cut.project(dir(94 * kDeg, 0)));  // beyond the turning point: not imaged
+  CHECK_FALSE(cut.project(dir(94 * kRadPerDeg, 0)));  // beyond the turning point: not imaged
 }
 
 TEST_CASE("double sphere with ξ = 0, α = ½ is the stereographic lens 2 tan(θ/2)", "[lens]") {
-  DoubleSphereLens ds(imx250(), 0.0, 0.5, 100 * kDeg);
+  DoubleSphereLens ds(imx250(), 0.0, 0.5, 100 * kRadPerDeg);
   for (double t : {0.1, 0.8, 1.5, 1.7}) CHECK(ds.radius(t) == Approx(2 * std::tan(t / 2)).epsilon(1e-14));
   CHECK(DoubleSphereLens::valid_angle(0, 0.5) == Approx(kPi));
   // ξ = −0.2, α = 0.6: w1 = 2/3, w2 = (2/3 − 0.2)/√(1 − 0.8/3 + 0.04) = 0.5307 → limit acos(−w2) = 122.05°.
   const double w2 = (2.0 / 3 - 0.2) / std::sqrt(2 * (2.0 / 3) * -0.2 + 0.04 + 1);
   CHECK(DoubleSphereLens::valid_angle(-0.2, 0.6) == Approx(std::acos(-w2)).epsilon(1e-14));
-  CHECK(std::acos(-w2) / kDeg == Approx(122.05).margin(0.01));
-  CHECK_THROWS_WITH(DoubleSphereLens(imx250(), -0.2, 0.6, 125 * kDeg), Catch::Contains("limit of 122.1°"));
+  CHECK(std::acos(-w2) / kRadPerDeg == Approx(122.05).margin(0.01));
+  CHECK_THROWS_WITH(DoubleSphereLens(imx250(), -0.2, 0.6, 125 * kRadPerDeg), Catch::Contains("limit of 122.1°"));
   CHECK_THROWS_WITH(DoubleSphereLens(imx250(), 0.1, 1.5, 1.0), Catch::Contains("alpha"));
 }
 
 TEST_CASE("tabulated heights: linear table reproduced exactly, smooth table to 3e-5 mm", "[lens]") {
   // Equidistant 1.8 mm lens, every 10°: h = f·θ. Fritsch–Carlson keeps a straight line straight.
   std::vector<std::pair<double, double>> lin, sol;
-  for (int d = 10; d <= 90; d += 10) lin.emplace_back(d, 1.8 * d * kDeg);
-  lin.emplace_back(92.5, 1.8 * 92.5 * kDeg);
+  for (int d = 10; d <= 90; d += 10) lin.emplace_back(d, 1.8 * d * kRadPerDeg);
+  lin.emplace_back(92.5, 1.8 * 92.5 * kRadPerDeg);
   Intrinsics k = imx250(1 / 3.45e-3);  // pixels per mm
   TabulatedLens tl(k, height_table_from_deg_mm(lin));
-  const auto p = tl.project(dir(45 * kDeg, 0));
+  const auto p = tl.project(dir(45 * kRadPerDeg, 0));
   REQUIRE(p);
   CHECK(p->x() == Approx(1223.5 + 1.8 / 3.45e-3 * kPi / 4).epsilon(1e-12));
   // Equisolid 2f·sin(θ/2) every 5°: the cubic is within 3e-5 mm (0.01 px) in between
   // (worst in the first segment, 0–5°, where only the added (0, 0) point bounds it).
-  for (int d = 5; d <= 90; d += 5) sol.emplace_back(d, 2 * 1.8 * std::sin(d * kDeg / 2));
+  for (int d = 5; d <= 90; d += 5) sol.emplace_back(d, 2 * 1.8 * std::sin(d * kRadPerDeg / 2));
   TabulatedLens ts(k, height_table_from_deg_mm(sol));
   double worst = 0;
-  for (double t = 0; t <= 90 * kDeg; t += 0.01 * kDeg)
+  for (double t = 0; t <= 90 * kRadPerDeg; t += 0.01 * kRadPerDeg)
     worst = std::max(worst, std::abs(ts.height(t) - 2 * 1.8 * std::sin(t / 2)));
   CHECK(worst < 3e-5);
   CHECK(ts.angle(ts.height(0.7)) == Approx(0.7).epsilon(1e-14));
@@ -163,7 +163,7 @@ TEST_CASE("OCamCalib calib_results.txt loads in its documented order", "[lens]")
 }
 
 TEST_CASE("OCam lens: axis at (yc, xc), 90° where pol(ρ) = 0, invpol agrees with the exact inverse", "[lens]") {
-  OCamLens lens(load_ocamcalib(kOcamFile), 92.5 * kDeg);
+  OCamLens lens(load_ocamcalib(kOcamFile), 92.5 * kRadPerDeg);
   const auto c = lens.project({0, 0, 1});
   REQUIRE(c);
   CHECK(c->x() == Approx(612.8));
@@ -186,27 +186,27 @@ TEST_CASE("OCam lens: axis at (yc, xc), 90° where pol(ρ) = 0, invpol agrees wi
 }
 
 TEST_CASE("project(ray(p)) = p to 1e-6 px over the whole image circle of a 185° lens, every model", "[lens]") {
-  const double tt = 93 * kDeg, a = 1 / (3 * tt * tt);
+  const double tt = 93 * kRadPerDeg, a = 1 / (3 * tt * tt);
   struct Named {
     std::string what;
     std::shared_ptr<const Lens> lens;
   };
   std::vector<std::pair<double, double>> sol;
-  for (int d = 5; d <= 90; d += 5) sol.emplace_back(d, 2 * 1.8 * std::sin(d * kDeg / 2));
-  sol.emplace_back(92.5, 2 * 1.8 * std::sin(92.5 * kDeg / 2));
+  for (int d = 5; d <= 90; d += 5) sol.emplace_back(d, 2 * 1.8 * std::sin(d * kRadPerDeg / 2));
+  sol.emplace_back(92.5, 2 * 1.8 * std::sin(92.5 * kRadPerDeg / 2));
   const std::vector<Named> lenses = {
-      {"equidistant", std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kDeg)},
-      {"equisolid", std::make_shared<RadialLens>(Mapping::equisolid, imx250(), 92.5 * kDeg)},
-      {"stereographic", std::make_shared<RadialLens>(Mapping::stereographic, imx250(), 92.5 * kDeg)},
-      {"kannala_brandt", std::make_shared<KannalaBrandtLens>(imx250(), std::array{0.012, -0.004, 0.0008, -0.00005}, 92.5 * kDeg)},
+      {"equidistant", std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg)},
+      {"equisolid", std::make_shared<RadialLens>(Mapping::equisolid, imx250(), 92.5 * kRadPerDeg)},
+      {"stereographic", std::make_shared<RadialLens>(Mapping::stereographic, imx250(), 92.5 * kRadPerDeg)},
+      {"kannala_brandt", std::make_shared<KannalaBrandtLens>(imx250(), std::array{0.012, -0.004, 0.0008, -0.00005}, 92.5 * kRadPerDeg)},
       {"kannala_brandt turning over at 93° (cut there)",
-       std::make_shared<KannalaBrandtLens>(imx250(), std::array{-a, 0.0, 0.0, 0.0}, 95 * kDeg,
+       std::make_shared<KannalaBrandtLens>(imx250(), std::array{-a, 0.0, 0.0, 0.0}, 95 * kRadPerDeg,
                                            KannalaBrandtLens::OnTurnover::clamp_fov)},
       {"kannala_brandt turning over just past 92.5°",
-       std::make_shared<KannalaBrandtLens>(imx250(), std::array{-1 / (3 * std::pow(92.51 * kDeg, 2)), 0.0, 0.0, 0.0}, 92.5 * kDeg)},
-      {"double_sphere", std::make_shared<DoubleSphereLens>(imx250(), -0.2, 0.6, 92.5 * kDeg)},
+       std::make_shared<KannalaBrandtLens>(imx250(), std::array{-1 / (3 * std::pow(92.51 * kRadPerDeg, 2)), 0.0, 0.0, 0.0}, 92.5 * kRadPerDeg)},
+      {"double_sphere", std::make_shared<DoubleSphereLens>(imx250(), -0.2, 0.6, 92.5 * kRadPerDeg)},
       {"tabulated", std::make_shared<TabulatedLens>(imx250(1 / 3.45e-3), height_table_from_deg_mm(sol))},
-      {"ocam", std::make_shared<OCamLens>(load_ocamcalib(kOcamFile), 92.5 * kDeg)},
+      {"ocam", std::make_shared<OCamLens>(load_ocamcalib(kOcamFile), 92.5 * kRadPerDeg)},
   };
   for (const auto& [what, lens] : lenses) {
     INFO(what);
@@ -230,7 +230,7 @@ TEST_CASE("project(ray(p)) = p to 1e-6 px over the whole image circle of a 185°
 }
 
 TEST_CASE("binning by 2: fx/2, cx' = (cx + 0.5)/2 − 0.5", "[lens]") {
-  RadialLens lens(Mapping::equidistant, imx250(), 92.5 * kDeg);
+  RadialLens lens(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg);
   const auto b = binned(lens, 2);
   CHECK(b->intrinsics().fx == Approx(kF / 2));
   CHECK(b->intrinsics().cx == Approx(611.5));
@@ -241,9 +241,9 @@ TEST_CASE("binning by 2: fx/2, cx' = (cx + 0.5)/2 − 0.5", "[lens]") {
 }
 
 TEST_CASE("image circle of the 185° fisheye on the IMX250: r = f·92.5° = 842.3 px, fits", "[lens]") {
-  RadialLens lens(Mapping::equidistant, imx250(), 92.5 * kDeg);
+  RadialLens lens(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg);
   const ImageCircle c = image_circle(lens);
-  CHECK(c.radius_px == Approx(kF * 92.5 * kDeg).epsilon(1e-9));
+  CHECK(c.radius_px == Approx(kF * 92.5 * kRadPerDeg).epsilon(1e-9));
   CHECK(c.radius_px == Approx(842.3).margin(0.05));
   CHECK(c.fits_on_sensor);
   CHECK(c.max_fov_deg == Approx(185));
@@ -251,10 +251,10 @@ TEST_CASE("image circle of the 185° fisheye on the IMX250: r = f·92.5° = 842.
   CHECK(c.centre.x() == 1223.5);
   // A longer focal length (700 px) clips top and bottom: the full circle reaches only
   // θ = (cy + 0.5)/f = 1024/700 rad, 2θ = 167.6°.
-  RadialLens tele(Mapping::equidistant, imx250(700), 92.5 * kDeg);
+  RadialLens tele(Mapping::equidistant, imx250(700), 92.5 * kRadPerDeg);
   const ImageCircle t = image_circle(tele);
   CHECK_FALSE(t.fits_on_sensor);
-  CHECK(t.full_circle_fov_deg == Approx(2 * 1024.0 / 700 / kDeg).epsilon(1e-6));
+  CHECK(t.full_circle_fov_deg == Approx(2 * 1024.0 / 700 / kRadPerDeg).epsilon(1e-6));
 }
 
 TEST_CASE("intrinsics from mm: 1.8 mm on 3.45 µm pixels is 521.739 px, centred", "[lens]") {
@@ -270,11 +270,11 @@ TEST_CASE("intrinsics from mm: 1.8 mm on 3.45 µm pixels is 521.739 px, centred"
 TEST_CASE("Kannala-Brandt: a derivative that only touches zero between scan samples is still caught", "[lens]") {
   // g(u) = dθd/dθ = 1 + 3k1·u + 5k2·u² = 5k2·(u − u0)² has a double root at u0 = (80°)²: the
   // curve flattens to zero slope at 80° without changing sign.
-  const double u0 = std::pow(80 * kDeg, 2);
+  const double u0 = std::pow(80 * kRadPerDeg, 2);
   const double k2 = 1 / (5 * u0 * u0), k1 = -2 * u0 * 5 * k2 / 3;
-  KannalaBrandtLens probe(imx250(), {k1, k2, 0, 0}, 70 * kDeg);
-  CHECK(probe.distorted_derivative(80 * kDeg) == Approx(0).margin(1e-12));
-  CHECK_THROWS_WITH(KannalaBrandtLens(imx250(), {k1, k2, 0, 0}, 92.5 * kDeg),
+  KannalaBrandtLens probe(imx250(), {k1, k2, 0, 0}, 70 * kRadPerDeg);
+  CHECK(probe.distorted_derivative(80 * kRadPerDeg) == Approx(0).margin(1e-12));
+  CHECK_THROWS_WITH(KannalaBrandtLens(imx250(), {k1, k2, 0, 0}, 92.5 * kRadPerDeg),
                     Catch::Contains("turns over at 80.0°"));
 }
 
@@ -282,9 +282,9 @@ TEST_CASE("magnifications match Sun et al. 2019 eqs. 23-28", "[lens]") {
   const double f = kF;
   for (double t : {0.0, 0.3, 1.0, kPi / 2, 1.6}) {
     const double th = std::max(t, 1e-12);
-    auto eqd = magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kDeg), t, 0.7);
-    auto eqs = magnification(RadialLens(Mapping::equisolid, imx250(), 92.5 * kDeg), t, 0.7);
-    auto stg = magnification(RadialLens(Mapping::stereographic, imx250(), 92.5 * kDeg), t, 0.7);
+    auto eqd = magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg), t, 0.7);
+    auto eqs = magnification(RadialLens(Mapping::equisolid, imx250(), 92.5 * kRadPerDeg), t, 0.7);
+    auto stg = magnification(RadialLens(Mapping::stereographic, imx250(), 92.5 * kRadPerDeg), t, 0.7);
     REQUIRE(eqd);
     REQUIRE(eqs);
     REQUIRE(stg);
@@ -297,13 +297,13 @@ TEST_CASE("magnifications match Sun et al. 2019 eqs. 23-28", "[lens]") {
     CHECK(stg->tangential_px == Approx(f / std::pow(std::cos(t / 2), 2)).epsilon(1e-6));  // eq. 28
   }
   // At 90°: β_t = 1.571f (equidistant), 1.414f (equisolid), β = 2f (stereographic), as the paper says.
-  CHECK(magnification(RadialLens(Mapping::equisolid, imx250(), 92.5 * kDeg), kPi / 2, 0)->tangential_px / f ==
+  CHECK(magnification(RadialLens(Mapping::equisolid, imx250(), 92.5 * kRadPerDeg), kPi / 2, 0)->tangential_px / f ==
         Approx(std::sqrt(2.0)));
-  CHECK_FALSE(magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kDeg), 93 * kDeg, 0));
+  CHECK_FALSE(magnification(RadialLens(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg), 93 * kRadPerDeg, 0));
 }
 
 TEST_CASE("parameters() lists each model's values in its documented order", "[lens]") {
-  KannalaBrandtLens kb(imx250(), {0.1, 0.02, 0.003, 0.0004}, 92.5 * kDeg);
+  KannalaBrandtLens kb(imx250(), {0.1, 0.02, 0.003, 0.0004}, 92.5 * kRadPerDeg);
   const auto p = kb.parameters();
   REQUIRE(p.size() == 11);
   CHECK(p[0] == std::pair<std::string, double>{"fx", kF});
@@ -312,10 +312,10 @@ TEST_CASE("parameters() lists each model's values in its documented order", "[le
   CHECK(p[6].second == Approx(185));
   CHECK(p[7] == std::pair<std::string, double>{"k1", 0.1});
   CHECK(p[10] == std::pair<std::string, double>{"k4", 0.0004});
-  const auto d = DoubleSphereLens(imx250(), -0.2, 0.6, 92.5 * kDeg).parameters();
+  const auto d = DoubleSphereLens(imx250(), -0.2, 0.6, 92.5 * kRadPerDeg).parameters();
   CHECK(d[7] == std::pair<std::string, double>{"xi", -0.2});
   CHECK(d[8] == std::pair<std::string, double>{"alpha", 0.6});
-  const auto o = OCamLens(load_ocamcalib(kOcamFile), 92.5 * kDeg).parameters();
+  const auto o = OCamLens(load_ocamcalib(kOcamFile), 92.5 * kRadPerDeg).parameters();
   CHECK(o[0] == std::pair<std::string, double>{"a0", -260.87});
   CHECK(o[5] == std::pair<std::string, double>{"p0", 417.495108});
   CHECK(o[15] == std::pair<std::string, double>{"xc", 511.3});

@@ -8,11 +8,12 @@
 #include <Eigen/LU>
 
 #include "camera/orientation.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
+using skypol::kRadPerDeg;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180;
 const Eigen::Vector3d kEast(1, 0, 0), kNorth(0, 1, 0), kUp(0, 0, 1);
 
 void check_vec(const Eigen::Vector3d& got, const Eigen::Vector3d& want) {
@@ -43,12 +44,12 @@ TEST_CASE("zenith camera, heading 0: image-up North, image-right West (mirrored 
   check_vec(r.col(0), -kEast);
   // Roll 30° turns image-up towards the former image-right (West): azimuth −30° = 330°.
   const Eigen::Matrix3d rr = world_from_heading_tilt_roll(0, 0, 30);
-  check_vec(-rr.col(1), Eigen::Vector3d(-std::sin(30 * kDeg), std::cos(30 * kDeg), 0));
+  check_vec(-rr.col(1), Eigen::Vector3d(-std::sin(30 * kRadPerDeg), std::cos(30 * kRadPerDeg), 0));
   CHECK(heading_deg_of(rr) == Approx(330));
 }
 
 TEST_CASE("tilt tips the optical axis towards the heading; image-up tips down", "[orientation]") {
-  const double psi = 30 * kDeg, tau = 40 * kDeg;
+  const double psi = 30 * kRadPerDeg, tau = 40 * kRadPerDeg;
   const Eigen::Matrix3d r = world_from_heading_tilt_roll(30, 40, 0);
   const Eigen::Vector3d h(std::sin(psi), std::cos(psi), 0);  // horizontal unit vector at azimuth ψ
   check_vec(r.col(2), std::sin(tau) * h + std::cos(tau) * kUp);  // elevation 50° at azimuth 30°
@@ -74,7 +75,7 @@ TEST_CASE("heading_deg_of inverts world_from_heading_tilt_roll", "[orientation]"
 }
 
 TEST_CASE("quaternion (cos 45°, 0, 0, sin 45°) is the heading-90° zenith camera", "[orientation]") {
-  const double c = std::cos(45 * kDeg);
+  const double c = std::cos(45 * kRadPerDeg);
   const Eigen::Matrix3d q = world_from_quaternion(c, 0, 0, c);
   CHECK((q - world_from_heading_tilt_roll(90, 0, 0)).cwiseAbs().maxCoeff() < 1e-12);
   // Normalised on input.

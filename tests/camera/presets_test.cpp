@@ -6,8 +6,10 @@
 
 #include "camera/intrinsics.h"
 #include "camera/presets.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
+using skypol::rad_from_deg;
 
 TEST_CASE("SkyPole's Fujinon 1.8 mm on the IMX250: f = 521.739 px, 185° circle of r = 842.3 px fits", "[presets]") {
   const auto spec = lens_spec(lens_preset("fujinon_fe185c057ha1"), sensor_preset("lucid_phx050s_qc"));
@@ -15,7 +17,7 @@ TEST_CASE("SkyPole's Fujinon 1.8 mm on the IMX250: f = 521.739 px, 185° circle 
   CHECK(lens->intrinsics().fx == Approx(1.8 / 3.45e-3));
   CHECK(lens->intrinsics().fx == Approx(521.739).margin(1e-3));
   const ImageCircle c = image_circle(*lens);
-  CHECK(c.radius_px == Approx(1.8 / 3.45e-3 * 92.5 * std::numbers::pi / 180).epsilon(1e-9));
+  CHECK(c.radius_px == Approx(rad_from_deg(1.8 / 3.45e-3 * 92.5)).epsilon(1e-9));
   CHECK(c.fits_on_sensor);
   CHECK(c.full_circle_fov_deg == Approx(185));
 }
@@ -29,12 +31,12 @@ TEST_CASE("Sigma 8 mm F3.5 circular fisheye: equisolid (lensfun), 9.177 mm image
   // model would give f·θ = 9.7738 mm there, 0.6 mm (173 px of 3.45 µm) further out.
   const SensorPreset& sensor = sensor_preset("sony_imx250mzr");
   const auto lens = make_lens(lens_spec(p, sensor));
-  const double theta = 70 * std::numbers::pi / 180;
+  const double theta = rad_from_deg(70);
   const auto px = lens->project({std::sin(theta), 0.0, std::cos(theta)});
   REQUIRE(px.has_value());
   const double r_mm = (px->x() - lens->intrinsics().cx) * sensor.pitch_um * 1e-3;
   CHECK(r_mm == Approx(9.1772).margin(1e-4));
-  CHECK(lens->max_field_angle() == Approx(90 * std::numbers::pi / 180));
+  CHECK(lens->max_field_angle() == Approx(rad_from_deg(90)));
 }
 
 TEST_CASE("Sun et al. 2019's model of that lens keeps its own name: equidistant, 140 deg", "[presets]") {
@@ -43,7 +45,7 @@ TEST_CASE("Sun et al. 2019's model of that lens keeps its own name: equidistant,
   CHECK(p.model == "equidistant");
   CHECK(p.focal_mm == 8.0);
   CHECK(make_lens(lens_spec(p, sensor_preset("sony_imx250mzr")))->max_field_angle() ==
-        Approx(70 * std::numbers::pi / 180));
+        Approx(rad_from_deg(70)));
 }
 
 TEST_CASE("IMX250MZR sensor preset: geometry, layout, 12-bit full scale at full well", "[presets]") {

@@ -30,12 +30,13 @@
 #include "camera/tabulated_lens.h"
 #include "camera/thin_prism_fisheye.h"
 #include "camera_test_util.h"
+#include "sky/units.h"
 
 using namespace skypol::camera;
 using namespace skypol::testing;
+using skypol::kRadPerDeg;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180;
 const std::string kOcamFile = std::string(SKYPOL_SOURCE_DIR) + "/tests/camera/data/ocam_calib_results.txt";
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -55,38 +56,38 @@ double angle_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { retur
 std::shared_ptr<const Lens> mei() {
   Intrinsics k = imx250(1480.2);
   k.fy = 1479.6, k.cx = 1223.4, k.cy = 1023.9;
-  return std::make_shared<MeiLens>(k, 0.2, 1.8, std::array{-0.02, 0.003, 0.0002, -0.0001}, 92.5 * kDeg);
+  return std::make_shared<MeiLens>(k, 0.2, 1.8, std::array{-0.02, 0.003, 0.0002, -0.0001}, 92.5 * kRadPerDeg);
 }
 
 std::vector<Named> lenses() {
   std::vector<std::pair<double, double>> table;
-  for (int d = 5; d <= 90; d += 5) table.emplace_back(d, 2 * 1.8 * std::sin(d * kDeg / 2));
-  table.emplace_back(92.5, 2 * 1.8 * std::sin(92.5 * kDeg / 2));
+  for (int d = 5; d <= 90; d += 5) table.emplace_back(d, 2 * 1.8 * std::sin(d * kRadPerDeg / 2));
+  table.emplace_back(92.5, 2 * 1.8 * std::sin(92.5 * kRadPerDeg / 2));
   Intrinsics off = imx250();
   off.cx = 1100.25, off.cy = 990.75, off.fy = kF * 1.01;  // principal point off the centre, fx ≠ fy
   return {
-      {"equidistant", std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kDeg)},
-      {"equidistant, off-centre, fx != fy", std::make_shared<RadialLens>(Mapping::equidistant, off, 92.5 * kDeg)},
-      {"equisolid", std::make_shared<RadialLens>(Mapping::equisolid, imx250(), 92.5 * kDeg)},
-      {"equisolid 180", std::make_shared<RadialLens>(Mapping::equisolid, imx250(400), 180 * kDeg)},
-      {"stereographic", std::make_shared<RadialLens>(Mapping::stereographic, imx250(), 92.5 * kDeg)},
-      {"orthographic", std::make_shared<RadialLens>(Mapping::orthographic, imx250(900), 90 * kDeg)},
-      {"perspective", std::make_shared<RadialLens>(Mapping::perspective, imx250(700), 60 * kDeg)},
+      {"equidistant", std::make_shared<RadialLens>(Mapping::equidistant, imx250(), 92.5 * kRadPerDeg)},
+      {"equidistant, off-centre, fx != fy", std::make_shared<RadialLens>(Mapping::equidistant, off, 92.5 * kRadPerDeg)},
+      {"equisolid", std::make_shared<RadialLens>(Mapping::equisolid, imx250(), 92.5 * kRadPerDeg)},
+      {"equisolid 180", std::make_shared<RadialLens>(Mapping::equisolid, imx250(400), 180 * kRadPerDeg)},
+      {"stereographic", std::make_shared<RadialLens>(Mapping::stereographic, imx250(), 92.5 * kRadPerDeg)},
+      {"orthographic", std::make_shared<RadialLens>(Mapping::orthographic, imx250(900), 90 * kRadPerDeg)},
+      {"perspective", std::make_shared<RadialLens>(Mapping::perspective, imx250(700), 60 * kRadPerDeg)},
       {"tabulated", std::make_shared<TabulatedLens>(imx250(1 / 3.45e-3), height_table_from_deg_mm(table))},
-      {"double_sphere", std::make_shared<DoubleSphereLens>(imx250(), -0.2, 0.6, 92.5 * kDeg)},
-      {"eucm", std::make_shared<EucmLens>(imx250(), 0.6, 1.1, 92.5 * kDeg)},
-      {"ocam", std::make_shared<OCamLens>(load_ocamcalib(kOcamFile), 92.5 * kDeg)},
+      {"double_sphere", std::make_shared<DoubleSphereLens>(imx250(), -0.2, 0.6, 92.5 * kRadPerDeg)},
+      {"eucm", std::make_shared<EucmLens>(imx250(), 0.6, 1.1, 92.5 * kRadPerDeg)},
+      {"ocam", std::make_shared<OCamLens>(load_ocamcalib(kOcamFile), 92.5 * kRadPerDeg)},
       {"kannala_brandt",
-       std::make_shared<KannalaBrandtLens>(imx250(), std::array{0.012, -0.004, 0.0008, -0.00005}, 92.5 * kDeg), false},
+       std::make_shared<KannalaBrandtLens>(imx250(), std::array{0.012, -0.004, 0.0008, -0.00005}, 92.5 * kRadPerDeg), false},
       // θd = θ − aθ³ turns over at 93°, where the field is cut: dθd/dθ → 0 at the edge, so the
       // pixels near it take ray() itself.
       {"kannala_brandt cut at its turning point",
-       std::make_shared<KannalaBrandtLens>(imx250(), std::array{-1 / (3 * std::pow(93 * kDeg, 2)), 0.0, 0.0, 0.0},
-                                           95 * kDeg, KannalaBrandtLens::OnTurnover::clamp_fov),
+       std::make_shared<KannalaBrandtLens>(imx250(), std::array{-1 / (3 * std::pow(93 * kRadPerDeg, 2)), 0.0, 0.0, 0.0},
+                                           95 * kRadPerDeg, KannalaBrandtLens::OnTurnover::clamp_fov),
        false},
       {"thin_prism_fisheye",
        std::make_shared<ThinPrismFisheyeLens>(
-           imx250(), std::array{0.0061, -0.0018, 0.00012, -0.00008, 0.00031, -0.00002, 0.00021, -0.00011}, 92.5 * kDeg),
+           imx250(), std::array{0.0061, -0.0018, 0.00012, -0.00008, 0.00031, -0.00002, 0.00021, -0.00011}, 92.5 * kRadPerDeg),
        false},
       {"mei", mei(), false},
   };
@@ -138,7 +139,7 @@ TEST_CASE("Lens::ray_row is ray(): bit for bit for the closed forms, to 1e-12 ra
 TEST_CASE("Lens::ray_row at the principal point and from a non-zero start column", "[lens]") {
   Intrinsics k = imx250();
   k.cx = 1000, k.cy = 900;  // integral: a pixel centre sits on the axis
-  const RadialLens lens(Mapping::equisolid, k, 92.5 * kDeg);
+  const RadialLens lens(Mapping::equisolid, k, 92.5 * kRadPerDeg);
   double dx[5], dy[5], dz[5];
   unsigned char valid[5];
   lens.ray_row(900, 998, 5, dx, dy, dz, valid);
@@ -216,7 +217,7 @@ TEST_CASE("Lens::ray_row's round trip project(ray_row(p)) = p is < 1e-6 px on ev
 TEST_CASE("Tabulated ray_row on the axis, at the edge of the field and from odd start columns", "[lens]") {
   Intrinsics k = imx250();
   k.cx = 1000, k.cy = 900;  // integral: a pixel centre sits on the axis (r = 0, the table's first node)
-  const KannalaBrandtLens kb(k, std::array{0.012, -0.004, 0.0008, -0.00005}, 92.5 * kDeg);
+  const KannalaBrandtLens kb(k, std::array{0.012, -0.004, 0.0008, -0.00005}, 92.5 * kRadPerDeg);
   double dx[7], dy[7], dz[7];
   unsigned char valid[7];
   kb.ray_row(900, 997, 7, dx, dy, dz, valid);
@@ -278,7 +279,7 @@ TEST_CASE("The ray paths' sin and cos (detail::sin_cos) are the library's within
     }
   }
   CHECK(bad == 0);
-  for (double x : {0.0, std::numbers::pi / 2, std::numbers::pi, 92.5 * kDeg}) {
+  for (double x : {0.0, std::numbers::pi / 2, std::numbers::pi, 92.5 * kRadPerDeg}) {
     double s, c;
     detail::sin_cos(x, s, c);
     CHECK(std::abs(s - std::sin(x)) <= 2e-16);

@@ -83,6 +83,17 @@ TEST_CASE("capture file errors name the key", "[cli][capture]") {
     TempDir dir;
     expect_error(setup(dir, "[capture]\nframes = [\"f_*.npy\"]\nframe_rate = 3\n"), dir, "capture.toml:3", "frame_rate");
   }
+  // [site] is read by the scene language's parser (scene::read_site): the same messages as a scene's.
+  SECTION("a latitude out of range in [site]") {
+    TempDir dir;
+    expect_error(setup(dir, "[capture]\nframes = [\"f_*.npy\"]\n[site]\nlatitude_deg = 95\nlongitude_deg = 5\n"), dir,
+                 "capture.toml:4:16: error: key 'site.latitude_deg'", "value 95 out of range [-90, 90]");
+  }
+  SECTION("an unknown key in [site]") {
+    TempDir dir;
+    expect_error(setup(dir, "[capture]\nframes = [\"f_*.npy\"]\n[site]\nlatitude_deg = 43\nlongitude_deg = 5\nheight = 3\n"),
+                 dir, "capture.toml:6", "site.height");
+  }
   SECTION("a heading, which is what estimate finds") {
     TempDir dir2;
     write_frame(dir2.path / "f_20220621T060000.npy", 500);

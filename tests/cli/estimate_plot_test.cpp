@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "cli/cli_harness.h"
+#include "sky/units.h"
 #include "stack/oiio_module.h"
 #include "stack/preview.h"
 #include "stack/stack_io.h"
@@ -191,7 +192,7 @@ TEST_CASE("the plot's cone is the circle of the stated radius about the pole, th
   for (const auto& p : ring) {
     const auto ray = st.camera->lens().ray(p);
     REQUIRE(ray);
-    const double angle = std::acos(std::clamp(ray->normalized().dot(e.pole_camera), -1.0, 1.0)) * 180 / std::numbers::pi;
+    const double angle = deg_from_rad(std::acos(std::clamp(ray->normalized().dot(e.pole_camera), -1.0, 1.0)));
     CHECK(std::abs(angle - 20) < 2.0);
   }
 }

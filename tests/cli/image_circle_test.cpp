@@ -6,10 +6,12 @@
 #include <numbers>
 
 #include "cli/cli_harness.h"
+#include "sky/units.h"
 
 using skypol::test::Result;
 using skypol::test::run;
 using skypol::test::TempDir;
+using skypol::deg_from_rad;
 
 namespace {
 
@@ -54,7 +56,7 @@ TEST_CASE("image_circle_px ends a calibration's field of view at the image circl
   const double fov = number(circle.out, "fov_deg"), cx = number(circle.out, "cx"), cy = number(circle.out, "cy");
   // The Fujinon's 185°, about: 840 px from the centre at fx = 521.9 px is θ ≈ 840 / 521.9 rad (the
   // equidistant part of the Kannala-Brandt polynomial; its small k1..k4 move it under a degree).
-  CHECK(std::abs(fov - 2 * 840 / 521.9 * 180 / std::numbers::pi) < 3.0);
+  CHECK(std::abs(fov - deg_from_rad(2 * 840 / 521.9)) < 3.0);
   // The circle's pixel that sees least far off the axis (along x: fx > fy) sees fov / 2, as the
   // lens itself says; a pixel just inside the circle is inside the field, one just beyond is not.
   auto at = [&](double u, double v) {

@@ -18,6 +18,7 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "sky/rayleigh.h"
+#include "sky/units.h"
 #include "stack/stack_io.h"
 
 using namespace skypol;
@@ -29,17 +30,17 @@ std::shared_ptr<const camera::Camera> small_fisheye(int w = 48, int h = 40) {
   camera::Intrinsics k;
   k.width = w;
   k.height = h;
-  k.fx = k.fy = 0.95 * (h / 2.0) / (92.5 * std::numbers::pi / 180);
+  k.fx = k.fy = 0.95 * (h / 2.0) / rad_from_deg(92.5);
   k.cx = (w - 1) / 2.0;
   k.cy = (h - 1) / 2.0;
-  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, 92.5 * std::numbers::pi / 180);
+  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(92.5));
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(20, 0, 0));
 }
 
 sky::Sun sun_at(double az_deg, double el_deg) {
   sky::Sun s;
-  s.azimuth = az_deg * std::numbers::pi / 180;
-  s.elevation = el_deg * std::numbers::pi / 180;
+  s.azimuth = rad_from_deg(az_deg);
+  s.elevation = rad_from_deg(el_deg);
   s.direction = sky::enu_direction(s.azimuth, s.elevation);
   return s;
 }

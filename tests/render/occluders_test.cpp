@@ -19,6 +19,7 @@
 #include "render/occluders_embree.h"
 #include "render/pipeline.h"
 #include "render/renderer.h"
+#include "sky/units.h"
 #include "stack/stack_io.h"
 #include "sky/rayleigh.h"
 
@@ -27,8 +28,6 @@ using scene::BoxSpec;
 using scene::OccluderSpec;
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 std::string source(const std::string& rel) { return std::string(SKYPOL_SOURCE_DIR) + "/" + rel; }
 
@@ -57,7 +56,7 @@ std::vector<Eigen::Vector3f> random_directions(std::size_t n, unsigned seed) {
 // every side (pad < 0 shrinks it)? Slabs in the box's own frame, in double precision. The box's
 // width axis is East turned clockwise (seen from above) by the yaw: (cos y, −sin y, 0).
 bool ray_meets_box(const BoxSpec& b, const Eigen::Vector3d& eye, const Eigen::Vector3d& d, double pad) {
-  const double y = b.yaw_deg * kPi / 180;
+  const double y = rad_from_deg(b.yaw_deg);
   const Eigen::Vector3d ax(std::cos(y), -std::sin(y), 0), ay(std::sin(y), std::cos(y), 0), az(0, 0, 1);
   const Eigen::Vector3d o = eye - b.position_m;
   const double lo[3] = {-b.size_m.x() / 2 - pad, -b.size_m.y() / 2 - pad, -pad};
@@ -118,17 +117,17 @@ std::shared_ptr<const camera::Camera> fisheye(int w, int h, double heading, doub
   camera::Intrinsics k;
   k.width = w;
   k.height = h;
-  k.fx = k.fy = 0.95 * (h / 2.0) / (92.5 * kPi / 180);
+  k.fx = k.fy = 0.95 * (h / 2.0) / rad_from_deg(92.5);
   k.cx = (w - 1) / 2.0;
   k.cy = (h - 1) / 2.0;
-  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, 92.5 * kPi / 180);
+  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(92.5));
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(heading, tilt, 0));
 }
 
 sky::Sun sun_at(double az_deg, double el_deg) {
   sky::Sun s;
-  s.azimuth = az_deg * kPi / 180;
-  s.elevation = el_deg * kPi / 180;
+  s.azimuth = rad_from_deg(az_deg);
+  s.elevation = rad_from_deg(el_deg);
   s.direction = sky::enu_direction(s.azimuth, s.elevation);
   return s;
 }
@@ -303,8 +302,8 @@ TEST_CASE("the horizon blocks every direction below its profile and none above",
     std::size_t unsure = 0;
     for (std::size_t i = 0; i < dirs.size(); ++i) {
       const Eigen::Vector3d d = dirs[i].cast<double>().normalized();
-      const double el = std::asin(std::clamp(d.z(), -1.0, 1.0)) * 180 / kPi;
-      double az = std::atan2(d.x(), d.y()) * 180 / kPi;
+      const double el = deg_from_rad(std::asin(std::clamp(d.z(), -1.0, 1.0)));
+      double az = deg_from_rad(std::atan2(d.x(), d.y()));
       if (az < 0) az += 360;
       const double limit = profile_at(profile, az);
       // The mesh's straight edges stay within 0.0001° of the rule (render/horizon_mesh.h).
@@ -398,8 +397,8 @@ TEST_CASE("the occluder scenes load, hold what they say, and render without NaN 
     for (int x = 0; x < stack.camera->width(); ++x) {
       const auto ray = stack.camera->ray(Eigen::Vector2d(x, y));
       if (!ray) continue;
-      const double el = std::asin(ray->d.z()) * 180 / kPi;
-      double az = std::atan2(ray->d.x(), ray->d.y()) * 180 / kPi;
+      const double el = deg_from_rad(std::asin(ray->d.z()));
+      double az = deg_from_rad(std::atan2(ray->d.x(), ray->d.y()));
       if (az < 0) az += 360;
       const double limit = profile_at(mountains.occluders.horizon, az);
       if (std::abs(el - limit) < 1e-3) continue;

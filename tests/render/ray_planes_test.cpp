@@ -12,11 +12,12 @@
 #include "render/ray_planes.h"
 #include "render/renderer.h"
 #include "sky/rayleigh.h"
+#include "sky/units.h"
 
 using namespace skypol;
 
 namespace {
-constexpr double kThetaMax = 92.5 * std::numbers::pi / 180;
+constexpr double kThetaMax = rad_from_deg(92.5);
 
 camera::Intrinsics fisheye_intrinsics(int w, int h) {
   camera::Intrinsics k;
@@ -35,8 +36,8 @@ std::shared_ptr<const camera::Camera> fisheye(int w, int h, double tilt_deg = 0)
 
 sky::Sun sun_at(double az_deg, double el_deg) {
   sky::Sun s;
-  s.azimuth = az_deg * std::numbers::pi / 180;
-  s.elevation = el_deg * std::numbers::pi / 180;
+  s.azimuth = rad_from_deg(az_deg);
+  s.elevation = rad_from_deg(el_deg);
   s.direction = sky::enu_direction(s.azimuth, s.elevation);
   return s;
 }

@@ -14,6 +14,7 @@
 #include "camera/presets.h"
 #include "render/recorded_stack.h"
 #include "render/sensor_stage.h"
+#include "sky/units.h"
 
 using namespace skypol;
 
@@ -21,7 +22,7 @@ namespace {
 render::RecordingSetup setup() {
   render::RecordingSetup s;
   s.site = {43.28699, 5.40336, 0};
-  const double tmax = 92.5 * std::numbers::pi / 180;
+  const double tmax = rad_from_deg(92.5);
   camera::Intrinsics k;
   k.width = k.height = 96;
   k.fx = k.fy = 48 / tmax;
@@ -57,7 +58,7 @@ TEST_CASE("recorded frames carry the truth and the channels the estimators read"
     for (const char* c : {"S0.Y", "S1.Y", "S2.Y", "DoLP.Y", "AoLP.Y", "mask"}) CHECK(f.has(c));
   }
   // The sun's elevation rises by 7° between 09:00 and 10:00 UTC on the paper's day.
-  const double rise = (st.frames[1].truth.sun.elevation - st.frames[0].truth.sun.elevation) * 180 / std::numbers::pi;
+  const double rise = deg_from_rad(st.frames[1].truth.sun.elevation - st.frames[0].truth.sun.elevation);
   CHECK(rise == Approx(7.0).margin(0.5));
   const render::RecordingSetup no_lens;
   CHECK_THROWS_AS(render::record_stack(no_lens, times), std::invalid_argument);
@@ -91,7 +92,7 @@ TEST_CASE("a noise-free DoFP sensor returns the renderer's DoLP and AoLP", "[ren
   CHECK(used > 6000);
   CHECK(eroded > 100);  // the ring next to the image circle's edge
   CHECK(worst_dolp < 0.03);
-  CHECK(worst_aolp < 3 * std::numbers::pi / 180);
+  CHECK(worst_aolp < rad_from_deg(3));
   CHECK_FALSE(got.frames[0].has("S0.Y"));
 }
 

@@ -17,6 +17,7 @@
 #include "render/renderer.h"
 #include "scene/truth.h"
 #include "sky/rayleigh.h"
+#include "sky/units.h"
 
 using namespace skypol;
 
@@ -27,17 +28,17 @@ std::shared_ptr<const camera::Camera> small_fisheye(double heading_deg = 0, int 
   camera::Intrinsics k;
   k.width = w;
   k.height = h;
-  k.fx = k.fy = 0.95 * (h / 2.0) / (92.5 * std::numbers::pi / 180);  // 185° circle just inside the height
+  k.fx = k.fy = 0.95 * (h / 2.0) / rad_from_deg(92.5);  // 185° circle just inside the height
   k.cx = (w - 1) / 2.0;
   k.cy = (h - 1) / 2.0;
-  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, 92.5 * std::numbers::pi / 180);
+  auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(92.5));
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(heading_deg, 0, 0), transport);
 }
 
 sky::Sun sun_at(double az_deg, double el_deg) {
   sky::Sun s;
-  s.azimuth = az_deg * std::numbers::pi / 180;
-  s.elevation = el_deg * std::numbers::pi / 180;
+  s.azimuth = rad_from_deg(az_deg);
+  s.elevation = rad_from_deg(el_deg);
   s.direction = sky::enu_direction(s.azimuth, s.elevation);
   return s;
 }

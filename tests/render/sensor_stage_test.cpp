@@ -17,6 +17,7 @@
 #include "render/renderer.h"
 #include "render/sensor_stage.h"
 #include "scene/scene_source.h"
+#include "sky/units.h"
 #include "stack/stack_io.h"
 
 using namespace skypol;
@@ -447,7 +448,6 @@ TEST_CASE("a vrte sky through an auto-exposed sensor needs no hand scaling", "[s
   std::filesystem::remove_all(dir);
   REQUIRE(v.frames.size() == 3);
   const auto cam = scene::build_camera(vrte.camera);
-  constexpr double kDeg = std::numbers::pi / 180;
   for (std::size_t i = 0; i < 3; ++i) {
     INFO("frame " << i);
     REQUIRE(v.frames[i].exposure_us);
@@ -467,7 +467,7 @@ TEST_CASE("a vrte sky through an auto-exposed sensor needs no hand scaling", "[s
         if (clipped[static_cast<std::size_t>(y * v.frames[i].width + x)] == 0.0f) continue;
         const auto ray = cam->ray(Eigen::Vector2d(x, y));
         REQUIRE(ray);
-        farthest_deg = std::max(farthest_deg, std::acos(std::clamp(ray->d.dot(v.frames[i].truth.sun.direction), -1.0, 1.0)) / kDeg);
+        farthest_deg = std::max(farthest_deg, std::acos(std::clamp(ray->d.dot(v.frames[i].truth.sun.direction), -1.0, 1.0)) / kRadPerDeg);
       }
     INFO(ratio << "x the Rayleigh exposure, " << lost << " of " << sky << " sky pixels clipped, the farthest "
                << farthest_deg << " deg from the sun");

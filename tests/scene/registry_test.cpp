@@ -12,6 +12,7 @@
 #include "camera/radial_lens.h"
 #include "scene/scene.h"
 #include "sky/sky_model_registry.h"
+#include "sky/units.h"
 
 using namespace skypol;
 
@@ -51,7 +52,7 @@ const bool kFlatRegistered = [] {
     k.fx = k.fy = *s.fx;
     k.cx = 0.5 * (s.width - 1);
     k.cy = 0.5 * (s.height - 1);
-    return std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, 0.5 * *s.fov_deg * std::numbers::pi / 180);
+    return std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(0.5 * *s.fov_deg));
   };
   camera::register_lens_model(l);
   return true;

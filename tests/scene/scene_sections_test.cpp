@@ -8,6 +8,7 @@
 
 #include "camera/orientation.h"
 #include "scene/scene.h"
+#include "sky/units.h"
 
 using namespace skypol;
 using scene::parse_scene;
@@ -49,7 +50,7 @@ coefficients = [0.01, -0.002, 0.0003, -0.00001]
   const auto cam = scene::build_camera(s.camera);
   CHECK(cam->lens().name() == "kannala_brandt");
   // θ(1 + k1θ² + …) at θ = 60°, independent of the lens code: the radius of that direction's pixel.
-  const double t = M_PI / 3, r = 160 * t * (1 + 0.01 * t * t - 0.002 * std::pow(t, 4) + 0.0003 * std::pow(t, 6) -
+  const double t = kPi / 3, r = 160 * t * (1 + 0.01 * t * t - 0.002 * std::pow(t, 4) + 0.0003 * std::pow(t, 6) -
                                               0.00001 * std::pow(t, 8));
   const Eigen::Vector3d d(std::sin(t), 0, std::cos(t));
   const auto px = cam->lens().project(d);
@@ -81,7 +82,7 @@ binning = 4
   CHECK(cam->height() == 512);
   // 1.8 mm / 3.45 µm, then 4×4 binning divides the focal length in pixels by 4.
   CHECK(cam->lens().intrinsics().fx == Approx(1.8e3 / 3.45 / 4).epsilon(1e-12));
-  CHECK(cam->lens().max_field_angle() == Approx(92.5 * M_PI / 180).epsilon(1e-12));
+  CHECK(cam->lens().max_field_angle() == Approx(rad_from_deg(92.5)).epsilon(1e-12));
 }
 
 TEST_CASE("a quaternion orientation is carried as heading, tilt and roll", "[scene][camera]") {
@@ -124,7 +125,7 @@ table = [[0, 0.0], [30, 0.3], [60, 0.6], [90, 0.9]]
   REQUIRE(s.camera.lens.table.size() == 4);
   const auto cam = scene::build_camera(s.camera);
   // 0.3 mm at 30° with 10 µm pixels: 30 px from the centre.
-  const auto px = cam->lens().project(Eigen::Vector3d(std::sin(M_PI / 6), 0, std::cos(M_PI / 6)));
+  const auto px = cam->lens().project(Eigen::Vector3d(std::sin(kPi / 6), 0, std::cos(kPi / 6)));
   REQUIRE(px);
   CHECK(px->x() - 99.5 == Approx(30).epsilon(1e-9));
   CHECK_THAT(error_of(kHead + "[camera]\nmodel = \"tabulated\"\npitch_um = 10\nwidth = 9\nheight = 9\ntable = [[0, 1, 2]]\n"),

@@ -215,3 +215,20 @@ size = [3.0, 1e-3]
   CHECK_THAT(text, Catch::Contains("\n[[boxes]]\nsize = [1.5, 2.0]\n"));
   CHECK_THAT(text, Catch::Contains("\"key with space\" = \"tab\\there \\\"quoted\\\" back\\\\slash\""));
 }
+
+TEST_CASE("toml_quoted escapes what a TOML basic string requires, and toml++ reads the text back", "[scene]") {
+  using skypol::scene::toml_quoted;
+  // Each escape by itself, as TOML 1.0 writes it: \" \\ \n \t \r by name, other controls as \u00xx.
+  CHECK(toml_quoted("a\"b") == R"("a\"b")");
+  CHECK(toml_quoted("a\\b") == R"("a\\b")");
+  CHECK(toml_quoted("\n\t\r") == R"("\n\t\r")");
+  CHECK(toml_quoted(std::string("\0\x01\x08\x0c\x1f\x7f", 6)) == R"("\u0000\u0001\u0008\u000c\u001f\u007f")");
+  CHECK(toml_quoted("é ∞ ok") == "\"é ∞ ok\"");  // UTF-8 kept as it is
+  // Every byte that needs an escape, and some that do not, round-tripped through toml++'s parser.
+  std::string text = "calib \"file\" C:\\dir\\x.yaml\nline\ttab\rcr é";
+  for (int c = 0; c < 0x20; ++c) text += static_cast<char>(c);
+  text += '\x7f';
+  const toml::table t = toml::parse("k = " + toml_quoted(text) + "\n");
+  REQUIRE(t["k"].as_string() != nullptr);
+  CHECK(t["k"].as_string()->get() == text);
+}

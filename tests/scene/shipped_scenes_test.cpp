@@ -11,6 +11,7 @@
 #include "scene/scene.h"
 #include "scene/sweep.h"
 #include "scene/truth.h"
+#include "sky/units.h"
 
 namespace fs = std::filesystem;
 using namespace skypol;
@@ -19,13 +20,12 @@ using scene::load_scene;
 namespace {
 
 const fs::path kScenes = fs::path(SKYPOL_SOURCE_DIR) / "scenes";
-constexpr double kDeg = std::numbers::pi / 180;
 
 std::string scene_path(const std::string& name) { return (kScenes / name).string(); }
 
 std::vector<double> sun_elevations_deg(const scene::Scene& s) {
   std::vector<double> out;
-  for (sky::Instant t : s.times) out.push_back(sky::sun_position(s.site, t, s.sun_options).elevation / kDeg);
+  for (sky::Instant t : s.times) out.push_back(sky::sun_position(s.site, t, s.sun_options).elevation / kRadPerDeg);
   return out;
 }
 
@@ -92,12 +92,12 @@ TEST_CASE("sun2019-hefei gives Sun et al. 2019 Table 1's sun elevations", "[scen
   // Their circular image holds N = 11 335 400 pixels: the 70° circle's radius is sqrt(N/π).
   const auto cam = scene::build_camera(s.camera);
   const camera::Intrinsics k = cam->lens().intrinsics();
-  const Eigen::Vector3d at70(std::sin(70 * kDeg), 0, std::cos(70 * kDeg));  // camera frame
+  const Eigen::Vector3d at70(std::sin(70 * kRadPerDeg), 0, std::cos(70 * kRadPerDeg));  // camera frame
   const auto px = cam->lens().project(at70);
   REQUIRE(px.has_value());
   CHECK(std::hypot(px->x() - k.cx, px->y() - k.cy) == Approx(std::sqrt(11335400 / std::numbers::pi)).margin(0.5));
   // And nothing beyond 70°: the effective field of view is 140°.
-  CHECK_FALSE(cam->lens().project(Eigen::Vector3d(std::sin(71 * kDeg), 0, std::cos(71 * kDeg))).has_value());
+  CHECK_FALSE(cam->lens().project(Eigen::Vector3d(std::sin(71 * kRadPerDeg), 0, std::cos(71 * kRadPerDeg))).has_value());
 }
 
 TEST_CASE("the hard-case scenes are the cases they claim", "[scenes]") {

@@ -12,10 +12,13 @@
 #include <unistd.h>
 
 #include "scene/json_text.h"
+#include "sky/units.h"
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
 #include "render/sweep_run.h"
 #include "scene/sweep.h"
+
+using skypol::rad_from_deg;
 
 namespace fs = std::filesystem;
 using namespace skypol::scene;
@@ -97,7 +100,7 @@ camera.heading_deg = { start = 0, end = 270, step = 90 }
   CHECK(v.truth.heading_deg == 180);
   CHECK(v.truth.pole_is_north);
   // The pole of an observer at latitude φ stands φ above the northern horizon (ENU).
-  CHECK(v.truth.pole_enu.z() == Approx(std::sin(0.5 * M_PI / 180)).epsilon(1e-12));
+  CHECK(v.truth.pole_enu.z() == Approx(std::sin(rad_from_deg(0.5))).epsilon(1e-12));
   CHECK(v.file.substr(0, 7) == "000019-");
 }
 
@@ -185,7 +188,7 @@ TEST_CASE("a run writes the manifest and one stack per variant; a second run ski
     CHECK(field("pole") == "\"south\"");
     const std::vector<double> pole = numbers(field("pole_enu"));
     REQUIRE(pole.size() == 3);
-    const double el = 20 * M_PI / 180;
+    const double el = rad_from_deg(20);
     CHECK(pole[0] == Approx(0).margin(1e-9));
     CHECK(pole[1] == Approx(-std::cos(el)).epsilon(1e-9));
     CHECK(pole[2] == Approx(std::sin(el)).epsilon(1e-9));

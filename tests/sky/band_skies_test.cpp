@@ -15,8 +15,10 @@
 #include "sky/optical_depth.h"
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
+#include "sky/units.h"
 
 using namespace skypol::sky;
+using skypol::rad_from_deg;
 namespace fs = std::filesystem;
 
 namespace {
@@ -58,8 +60,8 @@ std::string message_of(const SkySpec& spec) {
 
 Sun sun_at(double az_deg, double el_deg) {
   Sun s;
-  s.azimuth = az_deg * std::numbers::pi / 180;
-  s.elevation = el_deg * std::numbers::pi / 180;
+  s.azimuth = rad_from_deg(az_deg);
+  s.elevation = rad_from_deg(el_deg);
   s.direction = enu_direction(s.azimuth, s.elevation);
   return s;
 }
@@ -93,7 +95,7 @@ TEST_CASE("vrte is one model per band, and its bands differ as the sky's colours
   // The zenith and a view 90° from the sun in its vertical, on the anti-sun side: the blue band is
   // brighter than the green, the green than the red (τ_R ∝ ~λ⁻⁴ dominates this thin atmosphere).
   const Eigen::Vector3d views[] = {Eigen::Vector3d(0, 0, 1),
-                                   enu_direction((135.0 + 180.0) * std::numbers::pi / 180, 60 * std::numbers::pi / 180)};
+                                   enu_direction(rad_from_deg(135.0 + 180.0), rad_from_deg(60))};
   for (const Eigen::Vector3d& d : views) {
     Eigen::Vector3d e0 = Eigen::Vector3d::UnitX().cross(d);
     if (e0.norm() < 1e-9) e0 = Eigen::Vector3d::UnitY();
@@ -143,7 +145,7 @@ TEST_CASE("vrte at the hard cases is finite", "[band_skies]") {
     const Sun sun = sun_at(75, el);
     for (const double vel : {90.0, 45.0, 0.0, -0.0, -30.0, -90.0}) {
       for (const double vaz : {0.0, 75.0, 255.0}) {
-        const Eigen::Vector3d d = enu_direction(vaz * std::numbers::pi / 180, vel * std::numbers::pi / 180);
+        const Eigen::Vector3d d = enu_direction(rad_from_deg(vaz), rad_from_deg(vel));
         Eigen::Vector3d e0 = Eigen::Vector3d::UnitZ().cross(d);
         if (e0.norm() < 1e-9) e0 = Eigen::Vector3d::UnitX();
         const Stokes s = b.band(0).stokes(d, e0.normalized(), sun);

@@ -66,15 +66,15 @@ TEST_CASE("neutral points: on the solar vertical, unpolarized, Babinet above the
     const Sun sun = sun_at(135, el);
     const auto [babinet, brewster] = berry.neutral_points(sun);
     INFO("sun elevation " << el);
-    CHECK(std::acos(std::clamp(babinet.dot(sun.direction), -1.0, 1.0)) / kDeg == Approx(20.0).margin(1e-9));
-    CHECK(std::acos(std::clamp(brewster.dot(sun.direction), -1.0, 1.0)) / kDeg == Approx(20.0).margin(1e-9));
+    CHECK(std::acos(std::clamp(babinet.dot(sun.direction), -1.0, 1.0)) / kRadPerDeg == Approx(20.0).margin(1e-9));
+    CHECK(std::acos(std::clamp(brewster.dot(sun.direction), -1.0, 1.0)) / kRadPerDeg == Approx(20.0).margin(1e-9));
     // In the vertical plane through the sun: ⟂ to its horizontal normal (cos az, −sin az, 0).
-    const Eigen::Vector3d normal(std::cos(135 * kDeg), -std::sin(135 * kDeg), 0);
+    const Eigen::Vector3d normal(std::cos(135 * kRadPerDeg), -std::sin(135 * kRadPerDeg), 0);
     CHECK(std::abs(babinet.dot(normal)) < 1e-12);
     CHECK(std::abs(brewster.dot(normal)) < 1e-12);
     // Babinet 20° higher than the sun (past the zenith it comes down the other side)
-    if (el < 90) CHECK(elevation_of(babinet) / kDeg == Approx(90 - std::abs(70 - el)).margin(1e-9));
-    CHECK(elevation_of(brewster) / kDeg == Approx(el - 20).margin(1e-9));
+    if (el < 90) CHECK(elevation_of(babinet) / kRadPerDeg == Approx(90 - std::abs(70 - el)).margin(1e-9));
+    CHECK(elevation_of(brewster) / kRadPerDeg == Approx(el - 20).margin(1e-9));
     for (const Eigen::Vector3d& p : {babinet, brewster, Eigen::Vector3d(-babinet), Eigen::Vector3d(-brewster)}) {
       const Stokes s = berry.stokes(p, perpendicular(p), sun);
       CHECK(std::abs(s.s1) < 1e-14);
@@ -89,7 +89,7 @@ TEST_CASE("each neutral point has index 1/2; the pair around the sun adds up to 
   const BerrySky berry({1.0, 15.0});
   const RayleighSky rayleigh;
   const auto [babinet, brewster] = berry.neutral_points(sun);
-  const double r_small = 5 * kDeg, r_large = 30 * kDeg;
+  const double r_small = 5 * kRadPerDeg, r_large = 30 * kRadPerDeg;
   const double rayleigh_sun = line_field_index(rayleigh, sun, sun.direction, r_small);
   CHECK(std::abs(rayleigh_sun) == Approx(1.0).margin(1e-9));
   CHECK(line_field_index(berry, sun, babinet, r_small) == Approx(rayleigh_sun / 2).margin(1e-9));
@@ -104,7 +104,7 @@ TEST_CASE("DoLP stays within [0, Pmax], is mirror-symmetric about the solar vert
   std::mt19937_64 rng(5);
   const BerrySky berry({0.7, 25.0});
   const Sun sun = sun_at(60, 35);
-  const Eigen::Vector3d normal(std::cos(60 * kDeg), -std::sin(60 * kDeg), 0);  // of the solar vertical plane
+  const Eigen::Vector3d normal(std::cos(60 * kRadPerDeg), -std::sin(60 * kRadPerDeg), 0);  // of the solar vertical plane
   std::vector<ViewRay> rays;
   double max_seen = 0;
   for (int i = 0; i < 4000; ++i) {
@@ -131,7 +131,7 @@ TEST_CASE("berry hard cases: sun at the zenith and below the horizon are finite"
     const Sun sun = sun_at(10, el);
     for (double az = 0; az < 360; az += 20) {
       for (double vel = -90; vel <= 90; vel += 10) {
-        const Eigen::Vector3d d = enu_direction(az * kDeg, vel * kDeg);
+        const Eigen::Vector3d d = enu_direction(az * kRadPerDeg, vel * kRadPerDeg);
         const Stokes s = berry.stokes(d, perpendicular(d), sun);
         CHECK(std::isfinite(s.s1));
         CHECK(std::isfinite(s.s2));
@@ -161,7 +161,7 @@ double bdl_w_modulus(const Eigen::Vector3d& d, double sun_zenith, double sun_azi
 
 TEST_CASE("BDL eq. 4.2's |w| is sin g1 sin g2; each normalisation turns it into its degree", "[berry]") {
   // Sun 30° from the zenith at azimuth 40°, each neutral point 15° from it (a pair 30° apart).
-  const double sun_zenith = 30 * kDeg, sun_az = 40 * kDeg, delta = 15 * kDeg;
+  const double sun_zenith = 30 * kRadPerDeg, sun_az = 40 * kRadPerDeg, delta = 15 * kRadPerDeg;
   const Sun sun = sun_at(40, 60);
   const BerrySky split({1.0, 15.0});
   const BerrySky opensky({1.0, 15.0, BerryNormalisation::opensky});
@@ -188,9 +188,9 @@ TEST_CASE("BDL eq. 4.2's |w| is sin g1 sin g2; each normalisation turns it into 
   // One value by hand: sun at the zenith, δ = 15°, a direction 45° from the zenith in the plane
   // of the pair: γ1 = 30°, γ2 = 60°, |w| = sin 30° sin 60° = 0.4330127.
   const Sun overhead = sun_at(0, 90);
-  const Eigen::Vector3d d = enu_direction(0, 45 * kDeg);
+  const Eigen::Vector3d d = enu_direction(0, 45 * kRadPerDeg);
   CHECK(bdl_w_modulus(d, 0, 0, delta) == Approx(0.4330127).margin(1e-7));
-  CHECK(split.stokes(d, perpendicular(d), overhead).dolp() == Approx(0.4330127 / (1 + std::cos(30 * kDeg) * 0.5)).margin(1e-7));
+  CHECK(split.stokes(d, perpendicular(d), overhead).dolp() == Approx(0.4330127 / (1 + std::cos(30 * kRadPerDeg) * 0.5)).margin(1e-7));
   CHECK(opensky.stokes(d, perpendicular(d), overhead).dolp() == Approx(0.4330127 / (2 - 0.4330127)).margin(1e-7));
 }
 

@@ -11,12 +11,12 @@
 #include <numbers>
 
 #include "sky/rayleigh.h"
+#include "sky/units.h"
 
 using namespace skypol::sky;
+using skypol::kPi, skypol::kRadPerDeg;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 
 struct Forms {
   const char* name;
@@ -78,7 +78,7 @@ TEST_CASE("Sun et al. eqs. 12-13, 16-17, 20-21: the pattern in fisheye image coo
     for (double ts : {10.0, 45.0, 80.0, 90.0}) {
       for (double ps : {0.0, 70.0, 200.0}) {
         Sun sun;
-        sun.direction = spherical(ts * kDeg, ps * kDeg);
+        sun.direction = spherical(ts * kRadPerDeg, ps * kRadPerDeg);
         for (double x = -0.95; x <= 0.95; x += 0.1) {
           for (double y = -0.95; y <= 0.95; y += 0.1) {
             const double r = std::hypot(x, y);
@@ -86,13 +86,13 @@ TEST_CASE("Sun et al. eqs. 12-13, 16-17, 20-21: the pattern in fisheye image coo
             const Eigen::Vector3d d = spherical(f.theta_of_r(r), std::atan2(y, x));
             const Eigen::Vector3d up = Eigen::Vector3d::UnitZ() - d.z() * d;  // meridian basis
             const Stokes s = sky.stokes(d, up.normalized(), sun);
-            const double cg = f.cos_gamma(x, y, ts * kDeg, ps * kDeg);
+            const double cg = f.cos_gamma(x, y, ts * kRadPerDeg, ps * kRadPerDeg);
             INFO(f.name << " θs " << ts << " φs " << ps << " x " << x << " y " << y);
             CHECK(cg == Approx(d.dot(sun.direction)).margin(1e-12));
             CHECK(s.dolp() == Approx(pmax * (1 - cg * cg) / (1 + cg * cg)).margin(1e-12));
-            const double den = (x * std::sin(ps * kDeg) - y * std::cos(ps * kDeg)) * std::sin(ts * kDeg);
+            const double den = (x * std::sin(ps * kRadPerDeg) - y * std::cos(ps * kRadPerDeg)) * std::sin(ts * kRadPerDeg);
             if (std::abs(den) > 1e-3 && s.dolp() > 1e-6) {
-              const double alpha = std::atan(f.tan_alpha(x, y, ts * kDeg, ps * kDeg));
+              const double alpha = std::atan(f.tan_alpha(x, y, ts * kRadPerDeg, ps * kRadPerDeg));
               CHECK(std::remainder(-s.aolp() - alpha, kPi) == Approx(0.0).margin(1e-9));
               ++compared;
             }

@@ -26,10 +26,10 @@ IntensityParams preetham(double t) {
 
 TEST_CASE("Preetham luminance against hand-computed values", "[intensity]") {
   // T = 3, sun at the zenith, view 60° from the zenith: F(60°, 60°)/F(0°, 0°) = 0.35235116263.
-  CHECK(sky_radiance(preetham(3), enu_direction(0.3, 30 * kDeg), sun_at(0, 90)) ==
+  CHECK(sky_radiance(preetham(3), enu_direction(0.3, 30 * kRadPerDeg), sun_at(0, 90)) ==
         Approx(0.3523511626346728).epsilon(1e-9));
   // Sun at 30° elevation in the south, view east at 45°: T = 3 → 1.08384188664, T = 8 → 0.89794770792.
-  const Eigen::Vector3d view = enu_direction(90 * kDeg, 45 * kDeg);
+  const Eigen::Vector3d view = enu_direction(90 * kRadPerDeg, 45 * kRadPerDeg);
   CHECK(sky_radiance(preetham(3), view, sun_at(180, 30)) == Approx(1.0838418866434085).epsilon(1e-9));
   CHECK(sky_radiance(preetham(8), view, sun_at(180, 30)) == Approx(0.8979477079161806).epsilon(1e-9));
 }
@@ -41,15 +41,15 @@ TEST_CASE("Preetham: 1 at the zenith, symmetric about the solar vertical, horizo
       CHECK(sky_radiance(preetham(t), Eigen::Vector3d::UnitZ(), sun) == Approx(1.0).epsilon(1e-14));
       for (double off = 10; off < 180; off += 25) {
         for (double vel = 0; vel < 90; vel += 20) {
-          const double a = sky_radiance(preetham(t), enu_direction((130 + off) * kDeg, vel * kDeg), sun);
-          const double b = sky_radiance(preetham(t), enu_direction((130 - off) * kDeg, vel * kDeg), sun);
+          const double a = sky_radiance(preetham(t), enu_direction((130 + off) * kRadPerDeg, vel * kRadPerDeg), sun);
+          const double b = sky_radiance(preetham(t), enu_direction((130 - off) * kRadPerDeg, vel * kRadPerDeg), sun);
           CHECK(a == Approx(b).epsilon(1e-12));
           CHECK(a > 0);
         }
       }
       // Below the horizon: the horizon's value in the same azimuth, finite.
-      const double horizon = sky_radiance(preetham(t), enu_direction(40 * kDeg, 0), sun);
-      const double below = sky_radiance(preetham(t), enu_direction(40 * kDeg, -30 * kDeg), sun);
+      const double horizon = sky_radiance(preetham(t), enu_direction(40 * kRadPerDeg, 0), sun);
+      const double below = sky_radiance(preetham(t), enu_direction(40 * kRadPerDeg, -30 * kRadPerDeg), sun);
       CHECK(std::isfinite(below));
       CHECK(below > 0);
       CHECK(std::isfinite(horizon));

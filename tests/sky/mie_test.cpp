@@ -13,16 +13,17 @@
 #include <vector>
 
 #include "sky/mie.h"
+#include "sky/units.h"
 
 using namespace skypol::sky;
 using cplx = std::complex<double>;
+using skypol::kPi, skypol::rad_from_deg;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 
 std::vector<double> cos_deg(double step_deg, double last_deg = 180.0) {
   std::vector<double> mu;
-  for (double t = 0.0; t <= last_deg + 1e-9; t += step_deg) mu.push_back(std::cos(t * kPi / 180.0));
+  for (double t = 0.0; t <= last_deg + 1e-9; t += step_deg) mu.push_back(std::cos(rad_from_deg(t)));
   return mu;
 }
 

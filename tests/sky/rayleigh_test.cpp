@@ -37,14 +37,14 @@ TEST_CASE("DoLP is Pmax sin^2(g)/(1+cos^2(g)) with g from Sun et al.'s spherical
     for (double ths = 0; ths <= 180; ths += 15) {  // sun zenith angle, including below the horizon
       for (double phs : {0.0, 37.0, 200.0}) {
         Sun sun;
-        sun.direction = {std::sin(ths * kDeg) * std::cos(phs * kDeg), std::sin(ths * kDeg) * std::sin(phs * kDeg),
-                         std::cos(ths * kDeg)};
+        sun.direction = {std::sin(ths * kRadPerDeg) * std::cos(phs * kRadPerDeg), std::sin(ths * kRadPerDeg) * std::sin(phs * kRadPerDeg),
+                         std::cos(ths * kRadPerDeg)};
         for (double th = 0; th <= 90; th += 10) {
           for (double ph = 0; ph < 360; ph += 30) {
-            const Eigen::Vector3d d(std::sin(th * kDeg) * std::cos(ph * kDeg), std::sin(th * kDeg) * std::sin(ph * kDeg),
-                                    std::cos(th * kDeg));
-            const double cg = std::cos(th * kDeg) * std::cos(ths * kDeg) +
-                              std::sin(th * kDeg) * std::sin(ths * kDeg) * std::cos((ph - phs) * kDeg);
+            const Eigen::Vector3d d(std::sin(th * kRadPerDeg) * std::cos(ph * kRadPerDeg), std::sin(th * kRadPerDeg) * std::sin(ph * kRadPerDeg),
+                                    std::cos(th * kRadPerDeg));
+            const double cg = std::cos(th * kRadPerDeg) * std::cos(ths * kRadPerDeg) +
+                              std::sin(th * kRadPerDeg) * std::sin(ths * kRadPerDeg) * std::cos((ph - phs) * kRadPerDeg);
             const double g = std::acos(std::clamp(cg, -1.0, 1.0));
             const double expected = pmax * std::sin(g) * std::sin(g) / (1 + std::cos(g) * std::cos(g));
             const Stokes s = eval(sky, d, sun);
@@ -71,17 +71,17 @@ TEST_CASE("AoLP matches Sun et al. eq. 3 wherever tan(alpha) is defined", "[rayl
   for (double ths = 5; ths <= 175; ths += 17) {
     for (double phs : {10.0, 95.0, 260.0}) {
       Sun sun;
-      sun.direction = {std::sin(ths * kDeg) * std::cos(phs * kDeg), std::sin(ths * kDeg) * std::sin(phs * kDeg),
-                       std::cos(ths * kDeg)};
+      sun.direction = {std::sin(ths * kRadPerDeg) * std::cos(phs * kRadPerDeg), std::sin(ths * kRadPerDeg) * std::sin(phs * kRadPerDeg),
+                       std::cos(ths * kRadPerDeg)};
       for (double th = 3; th <= 90; th += 9) {
         for (double ph = 0; ph < 360; ph += 13) {
-          const double den = std::sin((ph - phs) * kDeg) * std::sin(ths * kDeg);
+          const double den = std::sin((ph - phs) * kRadPerDeg) * std::sin(ths * kRadPerDeg);
           if (std::abs(den) < 1e-3) continue;
-          const double num = std::sin(th * kDeg) * std::cos(ths * kDeg) -
-                             std::cos(th * kDeg) * std::cos((ph - phs) * kDeg) * std::sin(ths * kDeg);
+          const double num = std::sin(th * kRadPerDeg) * std::cos(ths * kRadPerDeg) -
+                             std::cos(th * kRadPerDeg) * std::cos((ph - phs) * kRadPerDeg) * std::sin(ths * kRadPerDeg);
           const double alpha = std::atan(num / den);
-          const Eigen::Vector3d d(std::sin(th * kDeg) * std::cos(ph * kDeg), std::sin(th * kDeg) * std::sin(ph * kDeg),
-                                  std::cos(th * kDeg));
+          const Eigen::Vector3d d(std::sin(th * kRadPerDeg) * std::cos(ph * kRadPerDeg), std::sin(th * kRadPerDeg) * std::sin(ph * kRadPerDeg),
+                                  std::cos(th * kRadPerDeg));
           const Stokes s = eval(sky, d, sun);
           if (s.dolp() < 1e-9) continue;  // at the sun/anti-sun AoLP is undefined
           CHECK(axial_diff(-s.aolp(), alpha) == Approx(0.0).margin(1e-9));
@@ -154,7 +154,7 @@ TEST_CASE("hard cases are finite and agree with their limits", "[rayleigh][hard]
     CHECK(anti.s0 == Approx(2.0));
     // Horizon: γ = 90°, DoLP = Pmax in every azimuth; the E-vector is horizontal.
     for (double az = 0; az < 360; az += 45) {
-      const Eigen::Vector3d d = enu_direction(az * kDeg, 0);
+      const Eigen::Vector3d d = enu_direction(az * kRadPerDeg, 0);
       const Stokes s = eval(sky, d, sun);
       CHECK(s.dolp() == Approx(0.7).margin(1e-12));
       CHECK(std::abs(axial_diff(s.aolp(), kPi / 2)) < 1e-12);  // ⟂ the meridian
@@ -163,8 +163,8 @@ TEST_CASE("hard cases are finite and agree with their limits", "[rayleigh][hard]
   SECTION("near the sun the pattern goes continuously to zero") {
     const Sun sun = sun_at(200, 35);
     for (double eps : {1e-2, 1e-4, 1e-6}) {
-      const Eigen::Vector3d d = enu_direction(200 * kDeg, (35 + eps) * kDeg);
-      const double g = eps * kDeg;
+      const Eigen::Vector3d d = enu_direction(200 * kRadPerDeg, (35 + eps) * kRadPerDeg);
+      const double g = eps * kRadPerDeg;
       CHECK(eval(sky, d, sun).dolp() == Approx(0.7 * g * g / 2).epsilon(1e-3));  // sin²γ/(1+cos²γ) ≈ γ²/2
     }
   }
@@ -173,7 +173,7 @@ TEST_CASE("hard cases are finite and agree with their limits", "[rayleigh][hard]
       const Sun sun = sun_at(270, el);
       for (double az = 0; az < 360; az += 30) {
         for (double vel = 0; vel <= 90; vel += 15) {
-          const Stokes s = eval(sky, enu_direction(az * kDeg, vel * kDeg), sun);
+          const Stokes s = eval(sky, enu_direction(az * kRadPerDeg, vel * kRadPerDeg), sun);
           CHECK(std::isfinite(s.s0));
           CHECK(std::isfinite(s.s1));
           CHECK(std::isfinite(s.s2));
@@ -190,9 +190,9 @@ TEST_CASE("DoLP at the celestial pole depends only on the declination (SkyPole)"
   for (double lat : {43.287, -33.87, 0.0, 89.0}) {
     const Eigen::Vector3d ncp = north_celestial_pole(lat);
     for (double dec : {-23.0, 0.0, 12.0}) {
-      const double sd = std::sin(dec * kDeg);
+      const double sd = std::sin(dec * kRadPerDeg);
       for (double ha = -180; ha < 180; ha += 20) {
-        const double phi = lat * kDeg, dr = dec * kDeg, w = ha * kDeg;
+        const double phi = lat * kRadPerDeg, dr = dec * kRadPerDeg, w = ha * kRadPerDeg;
         Sun sun;
         sun.direction = {-std::cos(dr) * std::sin(w), std::sin(dr) * std::cos(phi) - std::cos(dr) * std::sin(phi) * std::cos(w),
                          std::cos(dr) * std::cos(phi) * std::cos(w) + std::sin(dr) * std::sin(phi)};

@@ -81,7 +81,7 @@ TEST_CASE("berry with zero separation from the factory equals rayleigh", "[sky_s
   const auto berry = make_sky(b), rayleigh = make_sky(r);
   const Sun sun = sun_at(10, 20);
   for (double az = 0; az < 360; az += 40) {
-    const Eigen::Vector3d d = enu_direction(az * kDeg, 30 * kDeg);
+    const Eigen::Vector3d d = enu_direction(az * kRadPerDeg, 30 * kRadPerDeg);
     const Eigen::Vector3d e0 = Eigen::Vector3d::UnitZ().cross(d).normalized();
     const Stokes x = berry->stokes(d, e0, sun), y = rayleigh->stokes(d, e0, sun);
     CHECK(std::abs(x.s1 - y.s1) < 1e-9);
@@ -174,7 +174,7 @@ TEST_CASE("every configuration keeps the contract at the hard points", "[sky_spe
               const Eigen::Vector3d e0 = (a - a.dot(d) * d).normalized();
               const Stokes st = sky->stokes(d, e0, sun);
               INFO(model << " " << intensity << " clouds " << coverage << " disc " << disc << " sun el "
-                         << sun.elevation / kDeg << " d " << d.transpose());
+                         << sun.elevation / kRadPerDeg << " d " << d.transpose());
               CHECK(std::isfinite(st.s0));
               CHECK(std::isfinite(st.s1));
               CHECK(std::isfinite(st.s2));

@@ -14,18 +14,19 @@
 #include "sky/sky_model.h"
 #include "sky/stokes.h"
 #include "sky/sun.h"
+#include "sky/units.h"
 
 namespace skypol::testing {
 
-inline constexpr double kPi = std::numbers::pi;
-inline constexpr double kDeg = kPi / 180.0;
+using skypol::kPi;
+using skypol::kRadPerDeg;
 
 // A sun at an azimuth (from North towards East) and an elevation in degrees, without a site or a
 // time: the sky models read only these and the direction.
 inline sky::Sun sun_at(double azimuth_deg, double elevation_deg) {
   sky::Sun s;
-  s.azimuth = azimuth_deg * kDeg;
-  s.elevation = elevation_deg * kDeg;
+  s.azimuth = azimuth_deg * kRadPerDeg;
+  s.elevation = elevation_deg * kRadPerDeg;
   s.direction = sky::enu_direction(s.azimuth, s.elevation);
   return s;
 }

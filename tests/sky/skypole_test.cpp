@@ -39,12 +39,12 @@ TEST_CASE("SkyPole SI eq. 6: the radial invariance set has the same DoLP at both
   const RayleighSky sky({0.8});
   for (double lat : {43.287, -33.87, 5.0}) {
     for (double dec : {-20.0, 0.0, 15.0}) {
-      const double phi = lat * kDeg, d = dec * kDeg;
+      const double phi = lat * kRadPerDeg, d = dec * kRadPerDeg;
       for (auto [h1, h2] : {std::pair{-40.0, -10.0}, std::pair{-5.0, 30.0}, std::pair{20.0, 65.0}}) {
-        const double w1 = h1 * kDeg, w2 = h2 * kDeg, t = std::tan((w1 + w2) / 2);
+        const double w1 = h1 * kRadPerDeg, w2 = h2 * kRadPerDeg, t = std::tan((w1 + w2) / 2);
         const Sun s1 = sun_from(phi, d, w1), s2 = sun_from(phi, d, w2);
         for (double alpha = -180; alpha < 180; alpha += 15) {
-          const double a = alpha * kDeg;
+          const double a = alpha * kRadPerDeg;
           const double theta = std::atan((std::cos(a) * std::sin(phi) * t - std::sin(a)) / (std::cos(phi) * t));
           const Eigen::Vector3d p = point(a, theta);
           INFO("lat " << lat << " dec " << dec << " ha " << h1 << "," << h2 << " alpha " << alpha);
@@ -61,13 +61,13 @@ TEST_CASE("SkyPole SI eq. 10: the plane invariance set has the same DoLP at both
   const RayleighSky sky({1.0});
   for (double lat : {43.287, -33.87, 5.0}) {
     for (double dec : {-20.0, 0.0, 15.0}) {
-      const double phi = lat * kDeg, d = dec * kDeg;
+      const double phi = lat * kRadPerDeg, d = dec * kRadPerDeg;
       for (auto [h1, h2] : {std::pair{-40.0, -10.0}, std::pair{-5.0, 30.0}, std::pair{20.0, 65.0}}) {
-        const double w1 = h1 * kDeg, w2 = h2 * kDeg;
+        const double w1 = h1 * kRadPerDeg, w2 = h2 * kRadPerDeg;
         const Sun s1 = sun_from(phi, d, w1), s2 = sun_from(phi, d, w2);
         const double den = std::cos(d) * std::cos(phi) * (std::cos(w1) + std::cos(w2)) + 2 * std::sin(d) * std::sin(phi);
         for (double alpha = -180; alpha < 180; alpha += 15) {
-          const double a = alpha * kDeg;
+          const double a = alpha * kRadPerDeg;
           const double num = std::sin(a) * std::cos(d) * (std::sin(w1) + std::sin(w2)) +
                              std::cos(a) * (-2 * std::sin(d) * std::cos(phi) + std::cos(d) * std::sin(phi) * (std::cos(w1) + std::cos(w2)));
           const Eigen::Vector3d p = point(a, std::atan(num / den));

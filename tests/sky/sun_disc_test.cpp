@@ -20,10 +20,10 @@ TEST_CASE("the disc adds unpolarized radiance within 0.2666 degrees of the sun",
   const Stokes centre = sky.stokes(sun.direction, perpendicular(sun.direction), sun);
   CHECK(centre.s0 == Approx(1e5 + 2.0));
   CHECK(centre.dolp() < 1e-12);
-  const Eigen::Vector3d inside = enu_direction(100 * kDeg, 40.26 * kDeg);
+  const Eigen::Vector3d inside = enu_direction(100 * kRadPerDeg, 40.26 * kRadPerDeg);
   CHECK(sky.stokes(inside, perpendicular(inside), sun).s0 > 1e5);
   CHECK(sky.stokes(inside, perpendicular(inside), sun).dolp() < 1e-8);  // the sky's polarization is drowned
-  const Eigen::Vector3d outside = enu_direction(100 * kDeg, 40.27 * kDeg);
+  const Eigen::Vector3d outside = enu_direction(100 * kRadPerDeg, 40.27 * kRadPerDeg);
   CHECK(sky.stokes(outside, perpendicular(outside), sun).s0 < 3.0);
   CHECK(sky.name() == "rayleigh");
 }
@@ -67,7 +67,7 @@ TEST_CASE("disc batch path equals the scalar path", "[sun_disc][batch]") {
   const Sun sun = sun_at(33, 12);
   std::vector<ViewRay> rays;
   for (double off = -0.5; off <= 0.5; off += 0.01) {
-    const Eigen::Vector3d d = enu_direction(33 * kDeg, (12 + off) * kDeg);
+    const Eigen::Vector3d d = enu_direction(33 * kRadPerDeg, (12 + off) * kRadPerDeg);
     rays.push_back({d.cast<float>(), perpendicular(d).cast<float>()});
   }
   const std::vector<BatchAndScalar> both = batch_and_scalar(sky, rays, sun);

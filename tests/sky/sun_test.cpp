@@ -11,13 +11,13 @@
 #include <vector>
 
 #include "sky/sun.h"
+#include "sky/units.h"
 
 using namespace skypol::sky;
+using skypol::kPi, skypol::kRadPerDeg;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-double deg(double rad) { return rad / kDeg; }
+double deg(double rad) { return rad / kRadPerDeg; }
 
 const Site kGolden{39.742476, -105.1786, 1830.14};  // SPA's example site (NREL, Golden CO)
 }  // namespace
@@ -69,7 +69,7 @@ TEST_CASE("NREL SPA worked example with refraction: zenith 50.111622, azimuth 19
     const Sun spa = sun_position(kGolden, t, o);
     const double e0 = deg(geo.elevation);
     const double spa_refraction =
-        (820.0 / 1010.0) * (283.0 / (273.0 + 11.0)) * 1.02 / (60.0 * std::tan((e0 + 10.3 / (e0 + 5.11)) * kDeg));
+        (820.0 / 1010.0) * (283.0 / (273.0 + 11.0)) * 1.02 / (60.0 * std::tan((e0 + 10.3 / (e0 + 5.11)) * kRadPerDeg));
     CHECK(deg(spa.elevation) - e0 == Approx(spa_refraction).margin(1e-10));
     CHECK(std::abs(std::remainder(spa.azimuth - geo.azimuth, 2 * kPi)) < 1e-12);
   }
@@ -116,7 +116,7 @@ TEST_CASE("SPA's reference outputs at Auckland and Brasilia, 2010: default withi
     CHECK(std::abs(dz) < 5e-4);  // observed ≤ 1.2e-4°
     // The azimuth as an angle on the sky, da·sin z: near the zenith a small step of the sun is
     // a large step in azimuth (0.00049° of azimuth at 13.9° zenith is 0.00012° on the sky).
-    const double da_sky = da * std::sin(r.zenith * kDeg);
+    const double da_sky = da * std::sin(r.zenith * kRadPerDeg);
     CHECK(std::abs(da_sky) < 2e-4);  // observed ≤ 1.2e-4°
     worst_zenith = std::max(worst_zenith, std::abs(dz));
     worst_azimuth = std::max(worst_azimuth, std::abs(da_sky));
@@ -146,7 +146,7 @@ TEST_CASE("delta_t_s sets TT − UT1: 1 s of ΔT moves the sun by ~0.04 arcsec a
   o.delta_t_s = 66.184 + 1000;
   const Sun later = sun_position(auckland, t, o);
   // The sun moves ~0.9856°/day along the ecliptic: 1000 s ≈ 0.0114°.
-  const double moved = std::acos(std::clamp(later.direction.dot(leap.direction), -1.0, 1.0)) / kDeg;
+  const double moved = std::acos(std::clamp(later.direction.dot(leap.direction), -1.0, 1.0)) / kRadPerDeg;
   CHECK(moved == Approx(0.9856 * 1000 / 86400).epsilon(0.1));
   o.delta_t_s = 9000;
   CHECK_THROWS_WITH(sun_position(auckland, t, o), Catch::Contains("ΔT"));
@@ -175,7 +175,7 @@ TEST_CASE("SkyPole SI eqs. 1 and 4: the sun vector in (declination, hour angle, 
         for (int h = 0; h < 24; h += 2) {
           const Sun sun = sun_position(site, Instant{t0.unix_seconds + h * 3600.0}, o);
           INFO(day << " lat " << site.latitude_deg << " hour " << h << " refraction " << refract);
-          const double phi = site.latitude_deg * kDeg, d = sun.declination, w = sun.hour_angle;
+          const double phi = site.latitude_deg * kRadPerDeg, d = sun.declination, w = sun.hour_angle;
           // SI eq. 1
           const Eigen::Vector3d s(-std::cos(d) * std::sin(w),
                                   std::sin(d) * std::cos(phi) - std::cos(d) * std::sin(phi) * std::cos(w),
@@ -242,7 +242,7 @@ TEST_CASE("hour angle grows through the day; UT1-UTC shifts it by 15.04 arcsec p
   SunOptions late;
   late.ut1_minus_utc_s = 0.5;
   const Instant t = parse_iso8601("2024-06-21T12:00:00Z");
-  const double shift_arcsec = (sun_position(site, t, late).hour_angle - sun_position(site, t).hour_angle) / kDeg * 3600;
+  const double shift_arcsec = (sun_position(site, t, late).hour_angle - sun_position(site, t).hour_angle) / kRadPerDeg * 3600;
   // Earth rotates 15.041″ per second of UT1 (minus the sun's ~0.04″/s eastward drift).
   CHECK(shift_arcsec == Approx(0.5 * 15.0).margin(0.1));
 }
@@ -318,7 +318,7 @@ TEST_CASE("ENU helpers: azimuth from North towards East, elevation above the hor
   CHECK((enu_direction(1.0, kPi / 2) - Eigen::Vector3d(0, 0, 1)).norm() < 1e-15);  // zenith
   for (double az = 0; az < 360; az += 17) {
     for (double el = -89; el <= 89; el += 11) {
-      const Eigen::Vector3d v = enu_direction(az * kDeg, el * kDeg);
+      const Eigen::Vector3d v = enu_direction(az * kRadPerDeg, el * kRadPerDeg);
       CHECK(deg(azimuth_of(v)) == Approx(az).margin(1e-9));
       CHECK(deg(elevation_of(v)) == Approx(el).margin(1e-9));
     }

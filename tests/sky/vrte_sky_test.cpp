@@ -44,10 +44,10 @@ Eigen::Vector3d meridian_e0(const Eigen::Vector3d& d) {
 // the Rayleigh sense (E horizontal, ⟂ the vertical), S1 > 0 the reversed sense between a
 // neutral point and the sun or anti-sun.
 Stokes on_vertical(const VrteSky& sky, const Sun& sun, double a_deg) {
-  const double el = sun.elevation / kDeg + a_deg;  // elevation past 90 continues over the zenith
-  const double az = el <= 90 ? sun.azimuth / kDeg : sun.azimuth / kDeg + 180;
+  const double el = sun.elevation / kRadPerDeg + a_deg;  // elevation past 90 continues over the zenith
+  const double az = el <= 90 ? sun.azimuth / kRadPerDeg : sun.azimuth / kRadPerDeg + 180;
   const double e = el <= 90 ? el : 180 - el;
-  const Eigen::Vector3d d = enu_direction(az * kDeg, e * kDeg);
+  const Eigen::Vector3d d = enu_direction(az * kRadPerDeg, e * kRadPerDeg);
   return sky.stokes(d, meridian_e0(d), sun);
 }
 
@@ -80,7 +80,7 @@ TEST_CASE("Thin atmosphere: DoLP and AoLP are RayleighSky's, radiance the closed
       INFO("sun el " << sun_el << " d " << d.transpose());
       CHECK(v.dolp() == Approx(r.dolp()).margin(5e-4));
       // Near the sun and anti-sun (DoLP → 0) the angle of a weak polarization is undefined.
-      if (r.dolp() > 0.2) CHECK(std::abs(axial_diff(v.aolp(), r.aolp())) < 0.03 * kDeg);
+      if (r.dolp() > 0.2) CHECK(std::abs(axial_diff(v.aolp(), r.aolp())) < 0.03 * kRadPerDeg);
       // I/F = (3/4)(1 + cos²γ)/(4π) · μ0 (e^{−τ/μ} − e^{−τ/μ0})/(μ − μ0)  (single scattering of a thin layer)
       const double mu = d.z(), mu0 = sun.direction.z(), c = d.dot(sun.direction);
       const double f = std::abs(mu - mu0) < 1e-9 ? tau / mu0 * std::exp(-tau / mu0)
@@ -150,7 +150,7 @@ TEST_CASE("Hard cases: sun at the zenith and at the horizon, views at the horizo
   // Sun at the zenith: the sky is symmetric about it; the E-vector is horizontal everywhere
   // (⟂ the vertical through the sun), and the same at every azimuth.
   const Sun top = sun_at(0.0, 90.0);
-  const Eigen::Vector3d a = enu_direction(0.2, 40 * kDeg), b = enu_direction(2.9, 40 * kDeg);
+  const Eigen::Vector3d a = enu_direction(0.2, 40 * kRadPerDeg), b = enu_direction(2.9, 40 * kRadPerDeg);
   const Stokes sa = sky.stokes(a, meridian_e0(a), top), sb = sky.stokes(b, meridian_e0(b), top);
   CHECK(sa.s0 == Approx(sb.s0).epsilon(1e-9));
   CHECK(sa.s1 == Approx(sb.s1).epsilon(1e-9));
@@ -201,7 +201,7 @@ PathDifference batch_against_scalar(const VrteSky& sky, const Sun& sun, std::spa
     if (b.scalar.s0 > 0) d.s0 = std::max(d.s0, std::abs(s0 - b.scalar.s0) / b.scalar.s0);
     else CHECK(s0 == 0.0);
     const double dp = std::hypot(s1 - b.scalar.s1, s2 - b.scalar.s2) / brightest;
-    const bool near_sun = b.ray.d.cast<double>().dot(sun.direction) > std::cos(0.5 * kDeg);
+    const bool near_sun = b.ray.d.cast<double>().dot(sun.direction) > std::cos(0.5 * kRadPerDeg);
     if (brightest > 0) (near_sun ? d.p_sun : d.p) = std::max(near_sun ? d.p_sun : d.p, dp);
   }
   return d;
@@ -214,13 +214,13 @@ std::vector<ViewRay> sample_rays(const Sun& sun, int n) {
   for (int k = 0; k < n; ++k) add(random_unit(rng));
   // The zenith, the horizon, the sun and its aureole, the anti-solar vertical.
   add(Eigen::Vector3d::UnitZ());
-  for (double az = 0; az < 360; az += 30) add(enu_direction(az * kDeg, 0.0));
+  for (double az = 0; az < 360; az += 30) add(enu_direction(az * kRadPerDeg, 0.0));
   add(sun.direction);
   for (double off : {0.05, 0.3, 1.0, 3.0}) {
-    add(enu_direction(sun.azimuth, std::min(sun.elevation + off * kDeg, kPi / 2)));
-    add(enu_direction(sun.azimuth + off * kDeg, sun.elevation));
+    add(enu_direction(sun.azimuth, std::min(sun.elevation + off * kRadPerDeg, kPi / 2)));
+    add(enu_direction(sun.azimuth + off * kRadPerDeg, sun.elevation));
   }
-  for (double el = 1; el < 90; el += 7) add(enu_direction(sun.azimuth + kPi, el * kDeg));
+  for (double el = 1; el < 90; el += 7) add(enu_direction(sun.azimuth + kPi, el * kRadPerDeg));
   return rays;
 }
 
@@ -328,7 +328,7 @@ TEST_CASE("Aerosol: a bright aureole round the sun and less polarization 90 degr
   const VrteSky clear(rayleigh_table(0.1, 0.0279, 0.1));
   const Sun sun = sun_at(0.0, 40.0);
   auto at = [&](const VrteSky& sky, double az_deg, double el_deg) {
-    const Eigen::Vector3d d = enu_direction(az_deg * kDeg, el_deg * kDeg);
+    const Eigen::Vector3d d = enu_direction(az_deg * kRadPerDeg, el_deg * kRadPerDeg);
     return sky.stokes(d, meridian_e0(d), sun);
   };
   // 5° above the sun against 90° away on the solar vertical's far side, at the zenith's other side.
@@ -340,7 +340,7 @@ TEST_CASE("Aerosol: a bright aureole round the sun and less polarization 90 degr
     // The circle 90° from the sun: where Rayleigh polarization peaks.
     const Eigen::Vector3d s = sun.direction;
     const Eigen::Vector3d u = Eigen::Vector3d::UnitZ().cross(s).normalized(), v = s.cross(u);
-    const Eigen::Vector3d d = std::cos(a * kDeg) * u + std::sin(a * kDeg) * v;
+    const Eigen::Vector3d d = std::cos(a * kRadPerDeg) * u + std::sin(a * kRadPerDeg) * v;
     if (d.z() < 0.1) continue;
     max_hazy = std::max(max_hazy, hazy.stokes(d, meridian_e0(d), sun).dolp());
     max_clear = std::max(max_clear, clear.stokes(d, meridian_e0(d), sun).dolp());

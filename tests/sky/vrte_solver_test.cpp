@@ -11,13 +11,14 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
 #include "sky/vrte_solver.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;
+using skypol::kPi;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 
 double sum_i(const FourierSolution& s, bool up, std::size_t i, std::size_t j, double dphi, int k) {

@@ -13,14 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "sky/units.h"
 #include "sky/vrte_table.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;
+using skypol::kPi;
 namespace fs = std::filesystem;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 LayerOptics rayleigh(double tau) {
   LayerOptics o;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sky/units.h"
 #include "skypole/method_registry.h"
 #include "skypole/uncertainty.h"
 
@@ -22,7 +23,6 @@ using skypole::MethodCalibration;
 
 namespace {
 
-constexpr double kRad = std::numbers::pi / 180.0;  // one degree in radians
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // −ln 0.05: the 95 % point of F(2, ∞) times 2/2, the widening's denominator (uncertainty.h).
 const double kQ95Inf = -std::log(0.05);
@@ -96,8 +96,8 @@ TEST_CASE("the σ floor: each term alone, then their root-sum-square", "[skypole
   // It is isotropic: with no jackknife, σ is the floor and the cone 2.4477 × it.
   const Eigen::Matrix2d c = skypole::calibrated_covariance(all, skypole::Jackknives{}, r);
   CHECK(c(0, 1) == 0.0);
-  CHECK(c(0, 0) == Approx(0.42 * kRad * kRad));
-  CHECK(c(1, 1) == Approx(0.42 * kRad * kRad));
+  CHECK(c(0, 0) == Approx(0.42 * kRadPerDeg * kRadPerDeg));
+  CHECK(c(1, 1) == Approx(0.42 * kRadPerDeg * kRadPerDeg));
   CHECK(skypole::sigma_deg_of(c) == Approx(std::sqrt(0.42)));
   CHECK(skypole::cone95_deg_of(c) == Approx(std::sqrt(5.991464547107979 * 0.42)));
 }
@@ -119,22 +119,22 @@ TEST_CASE("the sector factor grows with the unpolarized and the clipped shares",
   // b scales the sector covariance squared: sectors 1 deg² isotropic, six groups (ν = 5), no frames:
   // C = w²(5)·0.65²·1 deg², w²(5) = 2.5·(0.05^−0.4 − 1)/(−ln 0.05).
   skypole::Jackknives j;
-  j.sectors = Eigen::Matrix2d::Identity() * kRad * kRad;
+  j.sectors = Eigen::Matrix2d::Identity() * kRadPerDeg * kRadPerDeg;
   j.sector_groups = 6;
   j.frame_groups = 6;
   const double w2 = 2.5 * (std::pow(0.05, -0.4) - 1) / kQ95Inf;
   const Eigen::Matrix2d cov = skypole::calibrated_covariance(c, j, r);
-  CHECK(cov(0, 0) / (kRad * kRad) == Approx(w2 * 0.65 * 0.65));
-  CHECK(cov(1, 1) / (kRad * kRad) == Approx(w2 * 0.65 * 0.65));
+  CHECK(cov(0, 0) / (kRadPerDeg * kRadPerDeg) == Approx(w2 * 0.65 * 0.65));
+  CHECK(cov(1, 1) / (kRadPerDeg * kRadPerDeg) == Approx(w2 * 0.65 * 0.65));
 }
 
 TEST_CASE("the jackknives' factors and the widening for few groups, as the calibration applies them",
           "[skypole][calibration][dof]") {
   skypole::Jackknives j;
   j.frames << 1.0, 0.0, 0.0, 0.25;  // deg²: 1° along the azimuth axis, 0.5° along altitude
-  j.frames *= kRad * kRad;
+  j.frames *= kRadPerDeg * kRadPerDeg;
   j.frame_groups = 3;  // ν = 2: the 95 % point of F(2, 2) is 19
-  j.sectors = Eigen::Matrix2d::Identity() * kRad * kRad;
+  j.sectors = Eigen::Matrix2d::Identity() * kRadPerDeg * kRadPerDeg;
   j.sector_groups = 6;
   const CalibrationReadings none;
 
@@ -143,8 +143,8 @@ TEST_CASE("the jackknives' factors and the widening for few groups, as the calib
   MethodCalibration frames = bare();
   frames.inflation = 2;
   const Eigen::Matrix2d cf = skypole::calibrated_covariance(frames, j, none);
-  CHECK(cf(0, 0) / (kRad * kRad) == Approx(19.0 / kQ95Inf * 4.0));
-  CHECK(cf(1, 1) / (kRad * kRad) == Approx(19.0 / kQ95Inf * 1.0));
+  CHECK(cf(0, 0) / (kRadPerDeg * kRadPerDeg) == Approx(19.0 / kQ95Inf * 4.0));
+  CHECK(cf(1, 1) / (kRadPerDeg * kRadPerDeg) == Approx(19.0 / kQ95Inf * 1.0));
   CHECK(skypole::sigma_deg_of(cf) == Approx(std::sqrt(19.0 / kQ95Inf * 4.0)));
 
   // Both, a = 1 with six frame groups and b = 1 from the unpolarized share alone (sector_inflation
@@ -158,17 +158,17 @@ TEST_CASE("the jackknives' factors and the widening for few groups, as the calib
   half.unpolarized_share = 0.5;
   const double w2 = 5 * (std::pow(0.05, -0.2) - 1) / kQ95Inf;
   const Eigen::Matrix2d cb = skypole::calibrated_covariance(both, j, half);
-  CHECK(cb(0, 0) / (kRad * kRad) == Approx(w2 * 2.0));
-  CHECK(cb(1, 1) / (kRad * kRad) == Approx(w2 * 1.25));
+  CHECK(cb(0, 0) / (kRadPerDeg * kRadPerDeg) == Approx(w2 * 2.0));
+  CHECK(cb(1, 1) / (kRadPerDeg * kRadPerDeg) == Approx(w2 * 1.25));
 
   // A floor adds s² after the widening, unwidened: floor 1° on the same answer.
   both.floor_deg = 1.0;
-  CHECK(skypole::calibrated_covariance(both, j, half)(0, 0) / (kRad * kRad) == Approx(w2 * 2.0 + 1.0));
+  CHECK(skypole::calibrated_covariance(both, j, half)(0, 0) / (kRadPerDeg * kRadPerDeg) == Approx(w2 * 2.0 + 1.0));
 
   // The uncalibrated statement: both jackknives as measured, unwidened, floor 0.05°.
   const Eigen::Matrix2d cu = skypole::uncalibrated_covariance(j);
-  CHECK(cu(0, 0) / (kRad * kRad) == Approx(1.0 + 1.0 + 0.0025));
-  CHECK(cu(1, 1) / (kRad * kRad) == Approx(0.25 + 1.0 + 0.0025));
+  CHECK(cu(0, 0) / (kRadPerDeg * kRadPerDeg) == Approx(1.0 + 1.0 + 0.0025));
+  CHECK(cu(1, 1) / (kRadPerDeg * kRadPerDeg) == Approx(0.25 + 1.0 + 0.0025));
 }
 
 TEST_CASE("each gate declines beyond its bound and only there, in run_method's order", "[skypole][calibration][gates]") {

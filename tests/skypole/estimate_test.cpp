@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "camera/orientation.h"
+#include "sky/units.h"
 #include "skypole/classic.h"
 #include "skypole/estimate.h"
 #include "skypole/great_circle.h"
@@ -20,7 +21,6 @@
 using namespace skypol;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A small stack just to get a SkyImages with a lens and a level frame.
 stack::Stack tiny_stack(double lat, double heading, double tilt, double roll) {
@@ -41,7 +41,7 @@ TEST_CASE("heading composes as Rz(-heading) times the level frame", "[skypole]")
     for (double tilt : {0.0, 20.0, 90.0})
       for (double roll : {0.0, -15.0, 40.0}) {
         const Eigen::Matrix3d rz =
-            Eigen::AngleAxisd(-h * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+            Eigen::AngleAxisd(-h * kRadPerDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
         const Eigen::Matrix3d a = camera::world_from_heading_tilt_roll(h, tilt, roll);
         const Eigen::Matrix3d b = rz * camera::world_from_heading_tilt_roll(0, tilt, roll);
         CHECK((a - b).cwiseAbs().maxCoeff() < 1e-12);
@@ -57,7 +57,7 @@ TEST_CASE("the true pole turns into the true heading and latitude", "[skypole]")
         const skypole::SkyImages sky =
             skypole::prepare_sky_images(stack, {}, 1, "test");
         const scene::Truth& t = stack.frames.front().truth;
-        const Eigen::Vector3d ncp_world(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
+        const Eigen::Vector3d ncp_world(0, std::cos(lat * kRadPerDeg), std::sin(lat * kRadPerDeg));
         const Eigen::Vector3d ncp_cam = t.world_from_camera.transpose() * ncp_world;
         const skypole::PoleEstimate e = skypole::make_estimate("truth", sky, ncp_cam, {});
         INFO("lat " << lat << " heading " << heading << " tilt " << tilt << " roll " << roll);
@@ -92,9 +92,9 @@ TEST_CASE("scores wrap the bearing error and see a wrong hemisphere", "[skypole]
   const stack::Stack stack = tiny_stack(43.28699, 350.0, 0, 0);
   const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
   const scene::Truth& t = stack.frames.front().truth;
-  const double lat = 43.28699 * kDeg;
+  const double lat = 43.28699 * kRadPerDeg;
   // The NCP rotated 15° east: heading estimate 350 − 15 = 335, error −15 (not 345).
-  const Eigen::Vector3d off(std::sin(15 * kDeg) * std::cos(lat), std::cos(15 * kDeg) * std::cos(lat),
+  const Eigen::Vector3d off(std::sin(15 * kRadPerDeg) * std::cos(lat), std::cos(15 * kRadPerDeg) * std::cos(lat),
                             std::sin(lat));
   const skypole::PoleEstimate e =
       skypole::make_estimate("t", sky, t.world_from_camera.transpose() * off, {});
@@ -157,7 +157,7 @@ TEST_CASE("the equator rule: an NCP a hair below the horizon is reported north",
   const scene::Truth& t = stack.frames.front().truth;
   for (double lat : {0.0, -0.001, -0.05, 0.001}) {
     const Eigen::Vector3d ncp_cam =
-        t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
+        t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kRadPerDeg), std::sin(lat * kRadPerDeg));
     const skypole::PoleEstimate e = skypole::make_estimate("test", sky, ncp_cam, {});
     INFO("NCP altitude " << lat);
     CHECK(e.is_north);
@@ -167,7 +167,7 @@ TEST_CASE("the equator rule: an NCP a hair below the horizon is reported north",
   }
   for (double lat : {-0.2, -1.0}) {  // beyond the band: the south pole, as before
     const Eigen::Vector3d ncp_cam =
-        t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kDeg), std::sin(lat * kDeg));
+        t.world_from_camera.transpose() * Eigen::Vector3d(0, std::cos(lat * kRadPerDeg), std::sin(lat * kRadPerDeg));
     const skypole::PoleEstimate e = skypole::make_estimate("test", sky, ncp_cam, {});
     INFO("NCP altitude " << lat);
     CHECK_FALSE(e.is_north);
@@ -182,9 +182,9 @@ TEST_CASE("decide_hemisphere: the data win over a contradicting hint only when d
   // Suns turning about +z as the sky does about the NCP: (s1 × s2)·NCP < 0 (estimate.h).
   const auto suns_every = [](double step_deg) {
     std::vector<std::optional<Eigen::Vector3d>> suns;
-    const double dec = 10 * kDeg;
+    const double dec = 10 * kRadPerDeg;
     for (int k = -4; k <= 4; ++k) {
-      const double w = k * step_deg * kDeg;
+      const double w = k * step_deg * kRadPerDeg;
       suns.emplace_back(Eigen::Vector3d(-std::cos(dec) * std::sin(w), -std::cos(dec) * std::cos(w), std::sin(dec)));
     }
     return suns;
@@ -219,10 +219,10 @@ TEST_CASE("decide_hemisphere: the data win over a contradicting hint only when d
   // are more than 12 h apart and see the sun turned the short way round (s_i × s_j ∝ −sin Δω·NCP):
   // counted as they come they outvote the third and say south, decisively; with the frame times
   // they count reversed and all three say north.
-  const double dec = 10 * kDeg;
+  const double dec = 10 * kRadPerDeg;
   std::vector<std::optional<Eigen::Vector3d>> midnight;
   for (const double w_deg : {0.0, 195.0, 210.0}) {
-    const double w = w_deg * kDeg;
+    const double w = w_deg * kRadPerDeg;
     midnight.emplace_back(Eigen::Vector3d(-std::cos(dec) * std::sin(w), -std::cos(dec) * std::cos(w), std::sin(dec)));
   }
   const skypole::HemisphereDecision untimed = skypole::decide_hemisphere(midnight, axis, skypole::Hemisphere::automatic);

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/great_circle.h"
 #include "skypole/uncertainty.h"
@@ -21,15 +22,13 @@ using namespace skypol;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 Eigen::Vector2d principal_point(const stack::Stack& s) {
   const camera::Intrinsics& k = s.camera->lens().intrinsics();
   return {k.cx, k.cy};
 }
 
 double deg_between(const skypole::PoleEstimate& a, const skypole::PoleEstimate& b) {
-  return skypole::tangent_offset(a, b).norm() / kDeg;
+  return skypole::tangent_offset(a, b).norm() / kRadPerDeg;
 }
 
 // The paper's clear noise-free day (96 px, heading 30°) with a disc of 25°, 40° off the axis
@@ -39,12 +38,12 @@ double deg_between(const skypole::PoleEstimate& a, const skypole::PoleEstimate& 
 // equal-DoLP circles pass through another pole, and they pull great_circle's answer 6.4° off.
 stack::Stack veiled_day(const stack::Stack& clear) {
   stack::Stack veiled = clear;
-  const Eigen::Vector3d centre(0, -std::sin(40 * kDeg), std::cos(40 * kDeg));
+  const Eigen::Vector3d centre(0, -std::sin(40 * kRadPerDeg), std::cos(40 * kRadPerDeg));
   testing::veil_disc(veiled, centre, 25, [&](std::size_t f, const Eigen::Vector3d& ray, float& dolp, float&) {
     const scene::Truth& t = clear.frames[f].truth;
     const double az = t.sun.azimuth, el = t.sun.elevation;
     const Eigen::Vector3d sun(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
-    const Eigen::Vector3d moved = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitX()) * sun;
+    const Eigen::Vector3d moved = Eigen::AngleAxisd(10 * kRadPerDeg, Eigen::Vector3d::UnitX()) * sun;
     const double c = (t.world_from_camera.transpose() * moved).dot(ray);
     dolp = static_cast<float>(0.7 * (1 - c * c) / (1 + c * c));  // Rayleigh, Pmax 0.7 (great_circle.h)
   });

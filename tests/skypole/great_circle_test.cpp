@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "sky/units.h"
 #include "skypole/great_circle.h"
 #include "skypole/uncertainty.h"
 #include "synthetic_stack.h"
@@ -169,7 +170,7 @@ TEST_CASE("great_circle interval pairs are frames i and i + interval, by index a
       CHECK(c.j == static_cast<int>(k) + interval);
       const Eigen::Vector3d si = stack.frames[static_cast<std::size_t>(c.i)].truth.sun.direction;
       const Eigen::Vector3d sj = stack.frames[static_cast<std::size_t>(c.j)].truth.sun.direction;
-      const double truth_deg = std::acos(std::clamp(si.dot(sj), -1.0, 1.0)) * 180 / 3.141592653589793;
+      const double truth_deg = deg_from_rad(std::acos(std::clamp(si.dot(sj), -1.0, 1.0)));
       if (c.radial_points > 0) CHECK(c.sun_separation_deg == Approx(truth_deg).margin(1.5));
     }
   }

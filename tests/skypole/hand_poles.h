@@ -5,18 +5,18 @@
 #include <cmath>
 #include <numbers>
 
+#include "sky/units.h"
 #include "skypole/estimate.h"
 
 namespace skypol::testing {
 
 inline skypole::PoleEstimate pole_at(double azimuth_deg, double altitude_deg) {
-  constexpr double deg = std::numbers::pi / 180.0;
   skypole::PoleEstimate e;
   e.valid = true;
   e.is_north = true;
   e.altitude_deg = altitude_deg;
   e.azimuth_rel_deg = azimuth_deg;
-  const double a = azimuth_deg * deg, h = altitude_deg * deg;
+  const double a = azimuth_deg * kRadPerDeg, h = altitude_deg * kRadPerDeg;
   e.pole_level = Eigen::Vector3d(std::cos(h) * std::sin(a), std::cos(h) * std::cos(a), std::sin(h));
   e.pole_camera = e.pole_level;
   return e;

@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/invariance.h"
 #include "skypole/uncertainty.h"
@@ -19,8 +20,6 @@
 using namespace skypol;
 
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 skypole::InputOptions uncalibrated() {
   skypole::InputOptions in;
@@ -38,12 +37,12 @@ stack::Stack veiled_near_pole(const stack::Stack& clear, double offset_deg, doub
   stack::Stack veiled = clear;
   const Eigen::Vector3d p = testing::true_pole_camera(clear);
   const Eigen::Vector3d up = (Eigen::Vector3d::UnitZ() - p.dot(Eigen::Vector3d::UnitZ()) * p).normalized();
-  const Eigen::Vector3d centre = (std::cos(offset_deg * kDeg) * p + std::sin(offset_deg * kDeg) * up).normalized();
+  const Eigen::Vector3d centre = (std::cos(offset_deg * kRadPerDeg) * p + std::sin(offset_deg * kRadPerDeg) * up).normalized();
   testing::veil_disc(veiled, centre, radius_deg, [&](std::size_t f, const Eigen::Vector3d& ray, float& dolp, float&) {
     const scene::Truth& t = clear.frames[f].truth;
     const double az = t.sun.azimuth, el = t.sun.elevation;
     const Eigen::Vector3d sun(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
-    const Eigen::Vector3d moved = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitX()) * sun;
+    const Eigen::Vector3d moved = Eigen::AngleAxisd(10 * kRadPerDeg, Eigen::Vector3d::UnitX()) * sun;
     const double c = (t.world_from_camera.transpose() * moved).dot(ray);
     dolp = static_cast<float>(0.7 * (1 - c * c) / (1 + c * c));
   });
@@ -70,7 +69,7 @@ TEST_CASE("invariance's sector refits cost its answer nothing and answer beside 
     INFO(sub.why_invalid);
     REQUIRE(sub.valid);
     CHECK(sub.is_north == with.estimate.is_north);
-    largest = std::max(largest, skypole::tangent_offset(with.estimate, sub).norm() / kDeg);
+    largest = std::max(largest, skypole::tangent_offset(with.estimate, sub).norm() / kRadPerDeg);
   }
   std::cout << "invariance without one sector of its window, clear day: at most " << largest << "° from the answer\n";
   // A sixth of the window's samples less moves a noise-free minimum by a tiny amount, but it moves

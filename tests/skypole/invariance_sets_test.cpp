@@ -9,10 +9,12 @@
 
 #include <Eigen/Core>
 
+#include "sky/units.h"
 #include "skypole/invariance_sets.h"
 
+using skypol::kRadPerDeg;
+
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // SI eq. 1: the sun in ENU from latitude, declination and hour angle (radians).
 Eigen::Vector3d sun(double phi, double dec, double ha) {
@@ -32,22 +34,22 @@ TEST_CASE("Set 1 and Set 2 points have equal |cos γ| at both times", "[skypole]
       // (−45, 45): m = 0, the printed form divides by zero; (60, 120): m = 90°, tan m is infinite.
       for (auto [h1, h2] : {std::pair{-40.0, -10.0}, std::pair{-45.0, 45.0}, std::pair{60.0, 120.0},
                             std::pair{-170.0, -100.0}}) {
-        const double phi = lat * kDeg, d = dec * kDeg, w1 = h1 * kDeg, w2 = h2 * kDeg;
+        const double phi = lat * kRadPerDeg, d = dec * kRadPerDeg, w1 = h1 * kRadPerDeg, w2 = h2 * kRadPerDeg;
         const Eigen::Vector3d s1 = sun(phi, d, w1), s2 = sun(phi, d, w2);
         for (double az = -180; az < 180; az += 7.5) {
-          const double a1 = skypol::skypole::radial_invariance_altitude(az * kDeg, phi, w1, w2);
-          const double a2 = skypol::skypole::plane_invariance_altitude(az * kDeg, phi, d, w1, w2);
+          const double a1 = skypol::skypole::radial_invariance_altitude(az * kRadPerDeg, phi, w1, w2);
+          const double a2 = skypol::skypole::plane_invariance_altitude(az * kRadPerDeg, phi, d, w1, w2);
           INFO("lat " << lat << " dec " << dec << " ha " << h1 << "," << h2 << " az " << az);
           REQUIRE(std::isfinite(a1));
           REQUIRE(std::isfinite(a2));
           CHECK(std::abs(a1) <= std::numbers::pi / 2);
           // Where the circle passes through the zenith (|θ| = 90°) the azimuth is moot.
           if (std::abs(std::abs(a1) - std::numbers::pi / 2) > 1e-9) {
-            const Eigen::Vector3d p = point(az * kDeg, a1);
+            const Eigen::Vector3d p = point(az * kRadPerDeg, a1);
             CHECK(p.dot(s1) == Approx(p.dot(s2)).margin(1e-12));
             ++checked;
           }
-          const Eigen::Vector3d q = point(az * kDeg, a2);
+          const Eigen::Vector3d q = point(az * kRadPerDeg, a2);
           CHECK(q.dot(s1) == Approx(-q.dot(s2)).margin(1e-12));
         }
         // Every radial circle passes through the celestial pole (α = 0, θ = φ) unless it is the

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "sky/units.h"
 #include "skypole/sky_images.h"
 #include "skypole/stack_sky.h"
 #include "skypole/sun_vector.h"
@@ -61,13 +62,26 @@ TEST_CASE("nth_smallest is std::nth_element's answer on signed data of every mag
   CHECK(skypole::quantile(neg, 0.5) == by_nth_element(neg, (neg.size() - 1) / 2));
 }
 
+TEST_CASE("quantile's rank conventions pick the elements their definitions name", "[skypole][quantile]") {
+  const std::vector<double> v = {7, 1, 5, 3, 9, 2, 8, 4, 6, 10};  // 1..10, shuffled
+  using skypole::QuantileRank;
+  CHECK(skypole::quantile(v, 0.5) == 5);                          // ⌊0.5·9⌋ = rank 4
+  CHECK(skypole::quantile(v, 0.5, QuantileRank::upper) == 6);     // v[10 / 2]
+  CHECK(skypole::quantile(v, 0.5, QuantileRank::nearest) == 5);   // ⌈5⌉ − 1 = rank 4
+  CHECK(skypole::quantile(v, 0.95) == 9);                         // ⌊8.55⌋ = rank 8
+  CHECK(skypole::quantile(v, 0.95, QuantileRank::nearest) == 10); // ⌈9.5⌉ − 1 = rank 9
+  CHECK(skypole::quantile(v, 1.0, QuantileRank::upper) == 10);    // ⌊10⌋ capped at rank 9
+  CHECK(skypole::quantile(v, 0.0, QuantileRank::nearest) == 1);   // ⌈0⌉ raised to rank 0
+  CHECK(skypole::quantile({}, 0.5, QuantileRank::nearest) == 0);
+}
+
 TEST_CASE("the sky memo keeps robust and plain sun fits of one sky apart", "[skypole][sky_memo]") {
   // A sky whose AoLP is turned by 40° inside a disc, in every frame: the robust fit sets those
   // pixels aside, the plain least squares is pulled by them, so the two suns differ.
   stack::Stack stack = testing::make_stack(testing::paper_day(64, 0, 0.0));
   const Eigen::Vector3d centre = Eigen::Vector3d(0.5, 0.3, 0.8).normalized();
   testing::veil_disc(stack, centre, 25, [](std::size_t, const Eigen::Vector3d&, float&, float& aolp) {
-    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * std::numbers::pi / 180, std::numbers::pi));
+    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + rad_from_deg(40), std::numbers::pi));
   });
   skypole::InputOptions input;
   input.sky_mask = false;  // the memo's sky keeps the veil

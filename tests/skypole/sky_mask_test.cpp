@@ -12,6 +12,7 @@
 #include <string>
 #include <numbers>
 
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/sky_images.h"
 #include "skypole/sky_mask.h"
@@ -21,8 +22,6 @@ using namespace skypol;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 // Paints the blob: the sky pixels within `radius_deg` of camera direction `centre`; returns the
 // painted truth per pixel.
 // thick: unpolarized (DoLP 0.02, a little scattered skylight), which no clear sky shows away from
@@ -31,7 +30,7 @@ std::vector<std::uint8_t> paint_blob(stack::Stack& stack, const Eigen::Vector3d&
                                      bool thick) {
   const skypole::SkyImages sky = skypole::prepare_sky_images(stack, {}, 1, "test");
   std::vector<std::uint8_t> blob(sky.pixels(), 0);
-  const double c = std::cos(radius_deg * kDeg);
+  const double c = std::cos(radius_deg * kRadPerDeg);
   for (std::size_t i = 0; i < sky.pixels(); ++i)
     blob[i] = sky.valid[i] && sky.ray_camera[i].cast<double>().dot(centre.normalized()) > c ? 1 : 0;
   for (stack::Frame& f : stack.frames) {
@@ -44,7 +43,7 @@ std::vector<std::uint8_t> paint_blob(stack::Stack& stack, const Eigen::Vector3d&
         continue;
       }
       dolp[i] *= 0.1f;
-      aolp[i] = static_cast<float>(std::remainder(static_cast<double>(aolp[i]) + 40 * kDeg, std::numbers::pi));
+      aolp[i] = static_cast<float>(std::remainder(static_cast<double>(aolp[i]) + 40 * kRadPerDeg, std::numbers::pi));
     }
   }
   return blob;
@@ -73,7 +72,7 @@ TEST_CASE("the sky mask finds a painted cloud, and the methods stop following it
   spec.noise = GENERATE(0.0, 0.01);
   const stack::Stack clear = testing::make_stack(spec);
   // A blob 40° across-ish in the south-west of the camera's sky, 50° from the zenith: ≈ 30 % of it.
-  const Eigen::Vector3d centre(-std::sin(50 * kDeg) * 0.6, std::sin(50 * kDeg) * 0.8, std::cos(50 * kDeg));
+  const Eigen::Vector3d centre(-std::sin(50 * kRadPerDeg) * 0.6, std::sin(50 * kRadPerDeg) * 0.8, std::cos(50 * kRadPerDeg));
   const scene::Truth& truth = clear.frames.front().truth;
 
   // Error bounds with the mask, per method: the clear day's errors on this stack are ≤ 1e-5°

@@ -13,6 +13,7 @@
 
 #include <tbb/global_control.h>
 
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/run_bare.h"
 #include "skypole/sky_images.h"
@@ -25,18 +26,16 @@ using namespace skypol;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 stack::Stack awkward_day() {
   testing::SyntheticSpec spec = testing::paper_day(96, 30, 0.01);
   spec.times = testing::times_every("2022-09-23T08:00:00Z", "2022-09-23T14:00:00Z", 60);  // 7 frames
   stack::Stack stack = testing::make_stack(spec);
   const std::size_t n = 96 * 96;
-  const Eigen::Vector3d veil(-std::sin(50 * kDeg) * 0.6, std::sin(50 * kDeg) * 0.8, std::cos(50 * kDeg));
+  const Eigen::Vector3d veil(-std::sin(50 * kRadPerDeg) * 0.6, std::sin(50 * kRadPerDeg) * 0.8, std::cos(50 * kRadPerDeg));
   testing::veil_disc(stack, veil, 30, [](std::size_t frame, const Eigen::Vector3d&, float& dolp, float& aolp) {
     if (frame != 2 && frame != 5) return;  // bad in 2 of 7 frames: masked, unless one of them is left out
     dolp *= 0.1f;
-    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * kDeg, std::numbers::pi));
+    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * kRadPerDeg, std::numbers::pi));
   });
   for (std::size_t k = 0; k < stack.frames.size(); ++k) {
     stack::Frame& f = stack.frames[k];

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "skypole/sun_azimuth.h"
 #include "skypole/sun_vector.h"
 #include "synthetic_stack.h"
@@ -15,14 +16,12 @@ using namespace skypol;
 
 namespace {
 
-constexpr double kDegT = 3.14159265358979323846 / 180.0;
-
 // The suns an observer at `site` sees at `times`, in the level frame of a camera turned to
 // `heading_deg` (world azimuth = level azimuth + heading, estimate.h).
 std::vector<Eigen::Vector3d> level_suns(const sky::Site& site, const std::vector<sky::Instant>& times,
                                         double heading_deg) {
   const Eigen::Matrix3d level_from_world =
-      Eigen::AngleAxisd(heading_deg * kDegT, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      Eigen::AngleAxisd(heading_deg * kRadPerDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   std::vector<Eigen::Vector3d> out;
   for (const sky::Instant& t : times) out.push_back(level_from_world * sky::sun_position(site, t).direction);
   return out;
@@ -56,7 +55,7 @@ TEST_CASE("the azimuth fix recovers latitude, longitude and heading from exact s
     const skypole::AzimuthFix fix = skypole::fix_from_sun_azimuths(level_suns(c.site, times, c.heading), times);
     REQUIRE(fix.ok);
     CHECK(std::abs(fix.latitude_deg - c.site.latitude_deg) < 5e-4);
-    CHECK(std::abs(wrap180(fix.longitude_deg - c.site.longitude_deg)) < 5e-4 / std::cos(c.site.latitude_deg * kDegT));
+    CHECK(std::abs(wrap180(fix.longitude_deg - c.site.longitude_deg)) < 5e-4 / std::cos(c.site.latitude_deg * kRadPerDeg));
     CHECK(std::abs(wrap180(fix.heading_deg - c.heading)) < 5e-4);
     CHECK(fix.rms_rad < 1e-5);
   }
@@ -70,7 +69,7 @@ TEST_CASE("the azimuth fix ignores the suns' elevations: a shared elevation bias
   const auto times = testing::times_every("2022-09-23T07:00Z", "2022-09-23T15:00Z", 20);
   std::vector<Eigen::Vector3d> suns = level_suns(site, times, 120), lifted;
   for (const Eigen::Vector3d& s : suns) {
-    const double az = std::atan2(s.x(), s.y()), el = std::asin(s.z()) + 1.5 * kDegT;
+    const double az = std::atan2(s.x(), s.y()), el = std::asin(s.z()) + 1.5 * kRadPerDeg;
     lifted.push_back(Eigen::Vector3d(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)));
   }
   const skypole::AzimuthFix a = skypole::fix_from_sun_azimuths(suns, times);

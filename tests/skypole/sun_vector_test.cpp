@@ -9,12 +9,11 @@
 #include <Eigen/Geometry>
 
 #include "sky/sun.h"
+#include "sky/units.h"
 #include "skypole/sun_vector.h"
 #include "synthetic_stack.h"
 
 using namespace skypol;
-
-constexpr double kDegT = 3.14159265358979323846 / 180.0;
 
 namespace {
 
@@ -49,7 +48,7 @@ TEST_CASE("AoLP gives the sun: every E-vector is perpendicular to it", "[skypole
     const Eigen::Vector3d truth =
         stack.frames[t].truth.world_from_camera.transpose() * stack.frames[t].truth.sun.direction;
     const double err = std::atan2(truth.cross(r.suns_camera[t]).norm(), truth.dot(r.suns_camera[t]));
-    CHECK(err * 180 / 3.14159265358979 < 0.01);
+    CHECK(deg_from_rad(err) < 0.01);
   }
 }
 
@@ -91,7 +90,7 @@ TEST_CASE("sun_vector_ephemeris measures its suns' elevations against the epheme
     sq += std::pow((e_true - e_told) / std::cos(e_told), 2);
   }
   const double expected =
-      std::sqrt(sq / static_cast<double>(stack.frames.size())) * std::cos(wrong.latitude_deg * kDegT) / kDegT;
+      std::sqrt(sq / static_cast<double>(stack.frames.size())) * std::cos(wrong.latitude_deg * kRadPerDeg) / kRadPerDeg;
   std::cout << "  elevation misfit " << r.estimate.sun_elevation_misfit_deg << "°, expected " << expected << "°\n";
   CHECK(expected > 0.5);  // the paper's day: 0.7–1° lower from morning to noon
   CHECK(r.estimate.sun_elevation_misfit_deg == Approx(expected).margin(0.01));

@@ -1,4 +1,5 @@
 // Renders the synthetic test stacks (see synthetic_stack.h).
+#include "sky/units.h"
 #include "synthetic_stack.h"
 
 #include <cmath>
@@ -15,8 +16,6 @@
 #include "sky/sun.h"
 
 namespace skypol::testing {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 std::vector<sky::Instant> times_every(const std::string& start, const std::string& end,
                                       double step_min) {
@@ -44,7 +43,7 @@ SyntheticSpec paper_day(int size, double heading_deg, double noise) {
 stack::Stack make_stack(const SyntheticSpec& spec) {
   camera::Intrinsics k;
   k.width = k.height = spec.size;
-  const double theta_max = 0.5 * spec.fov_deg * kDeg;
+  const double theta_max = 0.5 * spec.fov_deg * kRadPerDeg;
   k.fx = k.fy = 0.5 * spec.size / theta_max;
   k.cx = k.cy = 0.5 * (spec.size - 1);
   auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, theta_max);
@@ -68,7 +67,7 @@ stack::Stack make_stack(const SyntheticSpec& spec) {
   }
   const sky::SkyModel& model = *sky_model;
   const bool north = spec.latitude_deg >= 0;
-  const double phi = spec.latitude_deg * kDeg;
+  const double phi = spec.latitude_deg * kRadPerDeg;
   const Eigen::Vector3d ncp(0, std::cos(phi), std::sin(phi));
   std::mt19937 rng(spec.seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -120,7 +119,7 @@ stack::Stack make_stack(const SyntheticSpec& spec) {
 
 void veil_disc(stack::Stack& stack, const Eigen::Vector3d& centre, double radius_deg, const VeilPaint& paint,
                const std::string& band) {
-  const double cos_r = std::cos(radius_deg * kDeg);
+  const double cos_r = std::cos(radius_deg * kRadPerDeg);
   for (std::size_t f = 0; f < stack.frames.size(); ++f) {
     stack::Frame& frame = stack.frames[f];
     std::vector<float>& dolp = frame.channels.at("DoLP." + band);

@@ -9,6 +9,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
 #include "hand_poles.h"
@@ -18,7 +19,6 @@
 using namespace skypol;
 
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 using testing::pole_at;
 }  // namespace
@@ -26,7 +26,7 @@ using testing::pole_at;
 TEST_CASE("covariance to σ and cone: the formulas worked by hand", "[skypole][uncertainty]") {
   // Isotropic 1° at altitude 60°: σ_lat = 1°, σ_bearing = 1°/cos 60° = 2°, cone = √5.991 = 2.448°.
   skypole::PoleEstimate e = pole_at(30, 60);
-  skypole::set_uncertainty(e, Eigen::Matrix2d::Identity() * kDeg * kDeg);
+  skypole::set_uncertainty(e, Eigen::Matrix2d::Identity() * kRadPerDeg * kRadPerDeg);
   CHECK(e.sigma_latitude_deg == Approx(1.0));
   CHECK(e.sigma_bearing_deg == Approx(2.0));
   CHECK(e.sigma_deg == Approx(1.0));
@@ -35,7 +35,7 @@ TEST_CASE("covariance to σ and cone: the formulas worked by hand", "[skypole][u
   skypole::PoleEstimate f = pole_at(200, 0);
   Eigen::Matrix2d c;
   c << 9, 0, 0, 1;
-  skypole::set_uncertainty(f, c * kDeg * kDeg);
+  skypole::set_uncertainty(f, c * kRadPerDeg * kRadPerDeg);
   CHECK(f.sigma_bearing_deg == Approx(3.0));
   CHECK(f.sigma_latitude_deg == Approx(1.0));
   CHECK(f.cone95_deg == Approx(3 * 2.4477).epsilon(1e-4));
@@ -88,13 +88,13 @@ TEST_CASE("tangent offsets: a step up in altitude and a step east in azimuth", "
   const skypole::PoleEstimate p = pole_at(10, 40);
   const Eigen::Vector2d up = skypole::tangent_offset(p, pole_at(10, 41));
   CHECK(up.x() == Approx(0).margin(1e-9));
-  CHECK(up.y() == Approx(kDeg).epsilon(1e-6));
+  CHECK(up.y() == Approx(kRadPerDeg).epsilon(1e-6));
   // One degree of azimuth at altitude 40° is cos 40° degrees on the sphere (to first order).
   const Eigen::Vector2d east = skypole::tangent_offset(p, pole_at(11, 40));
-  CHECK(east.x() == Approx(std::cos(40 * kDeg) * kDeg).epsilon(1e-3));
+  CHECK(east.x() == Approx(std::cos(40 * kRadPerDeg) * kRadPerDeg).epsilon(1e-3));
   // A step along a parallel leaves the great circle of the azimuth axis by ½·sin h·cos h·Δa²
   // (7.5e-5 rad here): second order.
-  CHECK(east.y() == Approx(0.5 * std::sin(40 * kDeg) * std::cos(40 * kDeg) * kDeg * kDeg).epsilon(0.05));
+  CHECK(east.y() == Approx(0.5 * std::sin(40 * kRadPerDeg) * std::cos(40 * kRadPerDeg) * kRadPerDeg * kRadPerDeg).epsilon(0.05));
 }
 
 TEST_CASE("every method states an uncertainty that holds its error on a noisy day",
@@ -306,18 +306,18 @@ TEST_CASE("tangent_moved is tangent_offset's inverse", "[skypole][uncertainty]")
   // A pole at altitude 40°, azimuth 70°, reported as the SCP end: move it by (0.3°, −1.2°) in its
   // tangent plane and read the offset back.
   skypole::PoleEstimate at;
-  const double az = 70 * kDeg, alt = 40 * kDeg;
+  const double az = 70 * kRadPerDeg, alt = 40 * kRadPerDeg;
   at.pole_level = Eigen::Vector3d(std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt));
   at.is_north = false;
-  const Eigen::Vector2d d(0.3 * kDeg, -1.2 * kDeg);
+  const Eigen::Vector2d d(0.3 * kRadPerDeg, -1.2 * kRadPerDeg);
   skypole::PoleEstimate moved = at;
   moved.pole_level = skypole::tangent_moved(at, d);
   const Eigen::Vector2d back = skypole::tangent_offset(at, moved);
   CHECK(back.x() == Approx(d.x()).margin(1e-12));
   CHECK(back.y() == Approx(d.y()).margin(1e-12));
   // The altitude axis points up: a move of +1° along it raises the pole by 1°.
-  const Eigen::Vector3d up = skypole::tangent_moved(at, Eigen::Vector2d(0, 1 * kDeg));
-  CHECK(std::asin(up.z()) / kDeg == Approx(41.0).margin(1e-9));
+  const Eigen::Vector3d up = skypole::tangent_moved(at, Eigen::Vector2d(0, 1 * kRadPerDeg));
+  CHECK(std::asin(up.z()) / kRadPerDeg == Approx(41.0).margin(1e-9));
   CHECK(skypole::tangent_moved(at, Eigen::Vector2d::Zero()).isApprox(at.pole_level));
 }
 
@@ -328,8 +328,8 @@ TEST_CASE("pixel_angle_deg is 1/fx radians for an equidistant lens", "[skypole][
   const stack::Stack stack = testing::make_stack(spec);
   // synthetic_stack: fx = size/2 / θmax, θmax = 92.5°; equidistant: r = fx·θ, so one pixel from
   // the principal point is 1/fx rad.
-  const double fx = 0.5 * 96 / (92.5 * std::numbers::pi / 180);
-  CHECK(skypole::pixel_angle_deg(*stack.camera) == Approx(180 / std::numbers::pi / fx).epsilon(1e-9));
+  const double fx = 0.5 * 96 / rad_from_deg(92.5);
+  CHECK(skypole::pixel_angle_deg(*stack.camera) == Approx(kDegPerRad / fx).epsilon(1e-9));
 }
 
 TEST_CASE("sector_of deals the image into equal azimuth sectors about a centre", "[skypole][uncertainty][sectors]") {
@@ -379,11 +379,11 @@ TEST_CASE("the sector jackknife sees a bias that stays in one part of the sky; t
   testing::SyntheticSpec spec = testing::paper_day(96, 30, 0.01);
   const stack::Stack clear = testing::make_stack(spec);
   stack::Stack veiled = clear;
-  const double a = 30 * kDeg, z = 60 * kDeg;  // image angle 30° (x right, y down), 60° off axis
+  const double a = 30 * kRadPerDeg, z = 60 * kRadPerDeg;  // image angle 30° (x right, y down), 60° off axis
   const Eigen::Vector3d centre(std::cos(a) * std::sin(z), std::sin(a) * std::sin(z), std::cos(z));
   testing::veil_disc(veiled, centre, 25, [](std::size_t, const Eigen::Vector3d&, float& dolp, float& aolp) {
     dolp *= 0.1f;
-    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * kDeg, std::numbers::pi));
+    aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * kRadPerDeg, std::numbers::pi));
   });
   skypole::InputOptions bare;
   bare.calibrated = false;

@@ -16,6 +16,7 @@
 #include "render/renderer.h"
 #include "scene/scene_error.h"
 #include "scene/truth.h"
+#include "sky/units.h"
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
 #include "test_files.h"
@@ -90,7 +91,7 @@ TEST_CASE("a rendered stack reads back with its pixels and truth", "[stack]") {
   CHECK(f.truth.tilt_deg == 5);
   CHECK(f.truth.roll_deg == 0);
   CHECK_FALSE(f.truth.pole_is_north);  // Sydney sees the south celestial pole
-  const Eigen::Vector3d pole(0, -std::cos(33.8568 * M_PI / 180), std::sin(33.8568 * M_PI / 180));
+  const Eigen::Vector3d pole(0, -std::cos(rad_from_deg(33.8568)), std::sin(rad_from_deg(33.8568)));
   CHECK((f.truth.pole_enu - pole).norm() < 1e-12);
   // The sun in the header is the one ERFA gives for that instant (with the scene's options).
   const sky::Sun sun = sky::sun_position(scene.site, when, scene.sun_options);

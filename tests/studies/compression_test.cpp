@@ -14,8 +14,11 @@
 
 #include <unistd.h>
 
+#include "sky/units.h"
 #include "studies/tradeoff_studies.h"
 #include "csv_fields.h"
+
+using skypol::deg_from_rad;
 
 namespace fs = std::filesystem;
 
@@ -83,7 +86,7 @@ TEST_CASE("compression study: lossless settings give back the floats or their ha
       // Round to nearest: half an ulp. DoLP is below 1 (ulp 2^-11); AoLP below π/2 radians (ulp 2^-10).
       CHECK(num(h, "DoLP_max") > 0);
       CHECK(num(h, "DoLP_max") <= kUlpAtOne / 4 * 1.0001);
-      CHECK(num(h, "AoLP_deg_max") <= kUlpAtOne / 2 * 180 / M_PI * 1.0001);
+      CHECK(num(h, "AoLP_deg_max") <= deg_from_rad(kUlpAtOne / 2) * 1.0001);
     }
   }
   const Row& ideal_half = find(t, "half", "none", "ideal");

@@ -5,14 +5,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "sky/units.h"
 #include "studies/imaging_modes.h"
 #include "sky/rayleigh.h"
 
 using namespace skypol;
 
 namespace {
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 }  // namespace
 
 TEST_CASE("equidistant AoP per pixel is Sun et al. eq. 12", "[render][imaging_modes][paper]") {
@@ -20,10 +19,10 @@ TEST_CASE("equidistant AoP per pixel is Sun et al. eq. 12", "[render][imaging_mo
   const int size = 61;
   for (double az_deg : {0.0, 90.0, 215.0}) {
     for (double el_deg : {0.0, 30.0, 70.0}) {
-      const sky::Sun sun = sky::sun_from_horizontal(az_deg * kDeg, el_deg * kDeg, 31.85);
+      const sky::Sun sun = sky::sun_from_horizontal(az_deg * kRadPerDeg, el_deg * kRadPerDeg, 31.85);
       const studies::ModeImage m = studies::render_mode(camera::Mapping::equidistant, size, 180, sky, sun);
       // The paper's frame: X East, Y North, φ from X towards Y, horizon at radius 1.
-      const double ts = (90 - el_deg) * kDeg, ps = (90 - az_deg) * kDeg;
+      const double ts = (90 - el_deg) * kRadPerDeg, ps = (90 - az_deg) * kRadPerDeg;
       const double c = 0.5 * (size - 1), radius = 0.5 * size;
       int compared = 0;
       for (int v = 0; v < size; v += 3)
@@ -37,7 +36,7 @@ TEST_CASE("equidistant AoP per pixel is Sun et al. eq. 12", "[render][imaging_mo
           if (r < 1e-9 || std::abs(den) < 1e-3 || m.dop[i] < 1e-4f) continue;
           const double num = std::cos(kPi / 2 * r) * (x * std::cos(ps) + y * std::sin(ps)) * std::sin(ts) -
                              std::sin(kPi / 2 * r) * std::cos(ts) * r;
-          const double alpha = std::atan(num / den) / kDeg;
+          const double alpha = std::atan(num / den) / kRadPerDeg;
           INFO("sun az " << az_deg << " el " << el_deg << " pixel " << u << "," << v);
           CHECK(std::remainder(static_cast<double>(m.aop_deg[i]) - alpha, 180.0) == Approx(0).margin(2e-3));
           CHECK(static_cast<double>(m.theta_deg[i]) == Approx(90 * r).margin(1e-4));
