@@ -102,7 +102,7 @@ void add_evaluate(CLI::App& app) {
     const std::vector<std::string> stacks = find_stacks(a->inputs);
     std::vector<skypole::EvaluationRow> rows;
     for (std::size_t i = 0; i < stacks.size(); ++i) {
-      const stack::Stack stack = stack::read_stack(stacks[i], skypole::estimator_channels(stacks[i]));
+      const stack::Stack stack = stack::read_stack(stacks[i], skypole::estimator_channels(stacks[i], a->input));
       if (stack.frames.empty()) throw std::invalid_argument(stacks[i] + ": the stack has no frames");
       std::vector<skypole::PoleEstimate> done;  // auto combines these instead of running them again
       for (const std::string& m : methods) {

@@ -145,13 +145,9 @@ void print_unscored(const PoleEstimate& e) {
   std::printf("%-24s %12.3f\n", "95% cone (deg)", e.cone95_deg);
 }
 
-// The estimate plot of `estimates`, with the stack's clipped channel, which the estimators were not given.
+// The estimate plot of `estimates` (the stack holds its clipped channel, estimator_channels).
 void write_plots(const EstimateRequest& r, const stack::Stack& stack, const std::vector<PoleEstimate>& estimates) {
-  PlotOptions options;
-  const std::vector<std::string> channels = stack::peek_stack(r.path).channels;
-  if (std::find(channels.begin(), channels.end(), "clipped") != channels.end()) {
-    options.clipped = stack::read_stack(r.path, {"clipped"}).frames.at(stack.frames.size() / 2).channel("clipped");
-  }
+  const PlotOptions options;
   for (const std::string& path : write_estimate_plots(stack, estimates, r.input, r.plot, options)) {
     if (!r.json) std::printf("plot     %s\n", path.c_str());
   }
@@ -180,12 +176,22 @@ std::string profile_line(const std::string& stage, const ProcessUsage& from, con
   return buf;
 }
 
-std::vector<std::string> estimator_channels(const std::string& path) {
+std::vector<std::string> estimator_channels(const std::string& path, const InputOptions& input) {
   const stack::StackSummary s = stack::peek_stack(path);
-  std::vector<std::string> want;
-  for (const std::string& c : s.channels) {
-    if (c == "mask" || c.rfind("DoLP.", 0) == 0 || c.rfind("AoLP.", 0) == 0) want.push_back(c);
+  const auto has = [&](const std::string& c) { return std::find(s.channels.begin(), s.channels.end(), c) != s.channels.end(); };
+  // The band the estimators pick (sky_images.cpp pick_band): the asked one, else B, else the first.
+  std::string band = input.band;
+  if (band.empty()) band = has("DoLP.B") ? "B" : !s.bands.empty() ? s.bands.front() : "";
+  if (band.empty() || !has("DoLP." + band)) {
+    // No such band: every DoLP and AoLP, so that the estimators name what the stack holds.
+    std::vector<std::string> want;
+    for (const std::string& c : s.channels)
+      if (c == "mask" || c.rfind("DoLP.", 0) == 0 || c.rfind("AoLP.", 0) == 0) want.push_back(c);
+    return want;
   }
+  std::vector<std::string> want;
+  for (const std::string& c : {"DoLP." + band, "AoLP." + band, "S0." + band, std::string("mask"), std::string("clipped")})
+    if (has(c)) want.push_back(c);
   return want;
 }
 
@@ -207,7 +213,7 @@ void print_estimate(const EstimateRequest& r) {
     throw std::invalid_argument("--intermediates: only the classic method has intermediate images");
   }
   const ProcessUsage start = process_usage();
-  const stack::Stack stack = stack::read_stack(r.path, estimator_channels(r.path));
+  const stack::Stack stack = stack::read_stack(r.path, estimator_channels(r.path, r.input));
   ProcessUsage last = process_usage();
   if (r.profile) std::fprintf(stderr, "%s\n", profile_line("read", start, last).c_str());
   if (stack.frames.empty()) throw std::invalid_argument(r.path + ": the stack has no frames");

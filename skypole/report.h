@@ -51,9 +51,12 @@ inline void print_estimate(const std::string& path, const std::string& method, b
   print_estimate(r);
 }
 
-// The estimator channels of a stack (DoLP and AoLP of every band, and the mask): what
-// `estimate` and `evaluate` read, so that S0..S2 are never decoded.
-std::vector<std::string> estimator_channels(const std::string& path);
+// The channels the estimators read of a stack, and no others (S1, S2 and the other bands are never
+// decoded): of the band they pick (`input.band`, else B, else the stack's first) its DoLP and AoLP,
+// its S0 (the sky mask's saturated and dark tests, sky_mask.h) and the mask and clipped channels
+// (the pixels a sensor clipped, which the calibration's clipped share reads) where the stack has
+// them. The in-memory stacks of the studies hold the same, so a user's answer is the study's.
+std::vector<std::string> estimator_channels(const std::string& path, const InputOptions& input = {});
 
 // "all" → every method; otherwise checked against method_names().
 std::vector<std::string> expand_methods(const std::vector<std::string>& names);
