@@ -20,6 +20,7 @@
 #include "skypole/classic.h"
 #include "skypole/estimate_plot.h"
 #include "skypole/evaluate.h"
+#include "skypole/sky_images.h"
 
 namespace skypol::skypole {
 namespace {
@@ -179,10 +180,8 @@ std::string profile_line(const std::string& stage, const ProcessUsage& from, con
 std::vector<std::string> estimator_channels(const std::string& path, const InputOptions& input) {
   const stack::StackSummary s = stack::peek_stack(path);
   const auto has = [&](const std::string& c) { return std::find(s.channels.begin(), s.channels.end(), c) != s.channels.end(); };
-  // The band the estimators pick (sky_images.cpp pick_band): the asked one, else B, else the first.
-  std::string band = input.band;
-  if (band.empty()) band = has("DoLP.B") ? "B" : !s.bands.empty() ? s.bands.front() : "";
-  if (band.empty() || !has("DoLP." + band)) {
+  const std::string band = pick_band(s.bands, s.channels, input);
+  if (!has("DoLP." + band)) {
     // No such band: every DoLP and AoLP, so that the estimators name what the stack holds.
     std::vector<std::string> want;
     for (const std::string& c : s.channels)

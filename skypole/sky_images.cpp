@@ -41,22 +41,24 @@ std::string frame_label(const stack::Frame& f, std::size_t index) {
   return os.str();
 }
 
-std::string pick_band(const stack::Stack& stack, const InputOptions& options) {
-  if (!options.band.empty()) return options.band;
-  for (const auto& b : stack.bands)
-    if (b == "B") return b;
-  if (!stack.bands.empty()) return stack.bands.front();
-  for (const auto& [name, data] : stack.frames.front().channels)
-    if (name.rfind("DoLP.", 0) == 0) return name.substr(5);
-  return "Y";
-}
-
 const std::vector<float>* find_channel(const stack::Frame& f, const std::string& name) {
   const auto it = f.channels.find(name);
   return it == f.channels.end() ? nullptr : &it->second;
 }
 
 }  // namespace
+
+std::string pick_band(const std::vector<std::string>& bands, const std::vector<std::string>& channels,
+                      const InputOptions& options) {
+  if (!options.band.empty()) return options.band;
+  for (const auto& b : bands)
+    if (b == "B") return b;
+  if (!bands.empty()) return bands.front();
+  const std::string* first = nullptr;  // the first DoLP channel by name
+  for (const std::string& name : channels)
+    if (name.rfind("DoLP.", 0) == 0 && (!first || name < *first)) first = &name;
+  return first ? first->substr(5) : "Y";
+}
 
 FrameRefs all_frames(const stack::Stack& stack) {
   FrameRefs out;
@@ -105,7 +107,9 @@ SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options
   if (sky.width <= 0 || sky.height <= 0)
     throw std::invalid_argument(m + ": the camera has an empty image (" + std::to_string(sky.width) +
                                 "×" + std::to_string(sky.height) + ")");
-  sky.band = pick_band(stack, options);
+  std::vector<std::string> channels;
+  for (const auto& [name, data] : stack.frames.front().channels) channels.push_back(name);
+  sky.band = pick_band(stack.bands, channels, options);
   const std::string dolp_name = "DoLP." + sky.band;
   const std::size_t n = sky.pixels();
 

@@ -75,6 +75,11 @@ using FrameRefs = std::vector<const stack::Frame*>;
 FrameRefs all_frames(const stack::Stack& stack);
 FrameRefs kept_frames(const stack::Stack& stack, const std::vector<std::uint8_t>& keep);
 
+// The band the estimators read of a stack with these bands and channels: `options.band`, else B,
+// else the first band, else that of the first DoLP channel by name, else Y.
+std::string pick_band(const std::vector<std::string>& bands, const std::vector<std::string>& channels,
+                      const InputOptions& options);
+
 // Checks `stack` for `method` (which needs at least `min_frames` frames) and prepares it.
 // Throws std::invalid_argument with a message naming the method, frame and channel.
 // The same as sky_of(read_sky_frames(stack, options, min_frames, method), …, method).

@@ -116,3 +116,16 @@ TEST_CASE("the sky memo keeps robust and plain sun fits of one sky apart", "[sky
   // The test can fail: the two kinds of fit differ on this sky.
   CHECK(differing >= static_cast<int>(stack.frames.size()) / 2);
 }
+
+TEST_CASE("pick_band: the band the estimators read, and so the channels estimate decodes", "[skypole][band]") {
+  skypole::InputOptions asked;
+  asked.band = "G";
+  const skypole::InputOptions none;
+  CHECK(skypole::pick_band({"R", "G", "B"}, {}, asked) == "G");  // the asked band wins
+  CHECK(skypole::pick_band({"R", "G", "B"}, {}, none) == "B");   // else B
+  // Else the first listed band, even where a DoLP.B channel exists without B among the bands.
+  CHECK(skypole::pick_band({"R", "G"}, {"DoLP.B", "DoLP.R"}, none) == "R");
+  // No bands: the first DoLP channel by name, in any order given; none at all: Y.
+  CHECK(skypole::pick_band({}, {"S0.Z", "DoLP.Z", "DoLP.A"}, none) == "A");
+  CHECK(skypole::pick_band({}, {"mask"}, none) == "Y");
+}
