@@ -11,8 +11,7 @@
 #include <vector>
 
 #include "skypole/evaluate.h"
-#include "hand_poles.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 

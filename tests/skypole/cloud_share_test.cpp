@@ -9,7 +9,7 @@
 #include "skypole/cloud_share.h"
 #include "skypole/evaluate.h"
 #include "skypole/sky_images.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 
@@ -32,10 +32,8 @@ stack::Stack with_cloud(stack::Stack stack, double& covered_share) {
 
 // The paper's clear day, 128 px.
 stack::Stack clear_day() {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
+  testing::SyntheticSpec spec = testing::paper_spec(30);
   spec.size = 128;
-  spec.heading_deg = 30;
   return testing::make_stack(spec);
 }
 

@@ -4,36 +4,26 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 #include "sky/units.h"
 #include "skypole/great_circle.h"
 #include "skypole/uncertainty.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 
 namespace {
 
-testing::SyntheticSpec paper_spec(double heading) {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.heading_deg = heading;
-  return spec;
-}
+using testing::paper_spec;
 
 skypole::Score run(const stack::Stack& stack, const skypole::GreatCircleParams& p,
                    const char* label, skypole::GreatCircleResult* out = nullptr) {
   const skypole::GreatCircleResult r = skypole::estimate_great_circle(stack, p);
-  INFO(label << ": " << r.estimate.why_invalid);
-  REQUIRE(r.estimate.valid);
-  const skypole::Score s = skypole::score(r.estimate, stack.frames.front().truth);
-  std::cout << "great_circle " << label << ": bearing err "
-            << (s.bearing_error_deg ? *s.bearing_error_deg : std::nan("")) << "°, latitude err "
-            << s.latitude_error_deg << "°, angular err " << s.angular_error_deg << "°, residual "
-            << r.estimate.residual_deg << "°, drift "
-            << (r.drift_fitted ? r.drift : std::nan("")) << ", " << r.estimate.seconds << " s\n";
   if (out) *out = r;
-  return s;
+  std::ostringstream extra;
+  extra << ", drift " << (r.drift_fitted ? r.drift : std::nan(""));
+  return testing::require_scored(std::string("great_circle ") + label, r.estimate, stack, extra.str());
 }
 
 }  // namespace
@@ -50,12 +40,7 @@ TEST_CASE("great circles find the NCP over Marseille within 0.05 degrees", "[sky
 }
 
 TEST_CASE("great circles find the SCP for a southern observer", "[skypole][great_circle]") {
-  testing::SyntheticSpec spec;
-  spec.latitude_deg = -33.87;  // Sydney, local 08:00–16:00
-  spec.longitude_deg = 151.21;
-  spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
-  spec.heading_deg = 75;
-  const stack::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(testing::sydney_spec(75));
   skypole::GreatCircleResult r;
   const skypole::Score s = run(stack, {}, "Sydney", &r);
   CHECK_FALSE(r.estimate.is_north);
@@ -66,9 +51,7 @@ TEST_CASE("great circles find the SCP for a southern observer", "[skypole][great
 TEST_CASE("great circles do not need the pole in the field of view", "[skypole][great_circle]") {
   // A level camera looking south: the NCP is 137° off the axis, outside the 185° lens, yet the
   // circles seen in the south meet there.
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.heading_deg = 180;
+  testing::SyntheticSpec spec = paper_spec(180);
   spec.tilt_deg = 90;
   const stack::Stack stack = testing::make_stack(spec);
   skypole::GreatCircleResult r;
@@ -183,16 +166,10 @@ TEST_CASE("great circles refit from cached pairs, some frames left out, answer a
   const stack::Stack stack = testing::make_stack(paper_spec(200));
   const skypole::GreatCircleParams p;
   const skypole::GreatCirclePairs pairs = skypole::great_circle_pairs(stack, p);
-  std::vector<std::uint8_t> keep(stack.frames.size(), 1);
-  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = i % 4 != 2;
-  const stack::Stack sub = skypole::frames_kept(stack, keep);
+  const std::vector<std::uint8_t> keep = testing::keep_all_but(stack.frames.size(), 4, 2);
   const skypole::PoleEstimate cached = skypole::great_circle_pole(pairs, p, &keep).estimate;
-  const skypole::PoleEstimate fresh = skypole::estimate_great_circle(sub, p).estimate;
-  REQUIRE(cached.valid);
-  REQUIRE(fresh.valid);
-  CHECK(cached.is_north == fresh.is_north);
-  CHECK(std::acos(std::min(1.0, cached.pole_camera.dot(fresh.pole_camera))) < 1e-6);
-  CHECK(cached.residual_deg == Approx(fresh.residual_deg).margin(1e-6));
+  const skypole::PoleEstimate fresh = skypole::estimate_great_circle(skypole::frames_kept(stack, keep), p).estimate;
+  testing::check_refit_is_rerun(cached, fresh, 1e-6, 1e-6);
   const skypole::PoleEstimate all = skypole::great_circle_pole(pairs, p).estimate;
   CHECK(all.pole_camera.dot(cached.pole_camera) < 1.0);  // the left-out pairs did count
 }

@@ -3,36 +3,24 @@
 
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 #include "skypole/invariance.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 
 namespace {
 
-testing::SyntheticSpec paper_spec(double heading) {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.heading_deg = heading;
-  return spec;
-}
+using testing::paper_spec;
 
 skypole::Score run(const stack::Stack& stack, const skypole::InvarianceParams& p,
                    const std::string& label, skypole::InvarianceResult* out = nullptr) {
   const skypole::InvarianceResult r = skypole::estimate_invariance(stack, p);
-  INFO(label << ": " << r.estimate.why_invalid);
-  REQUIRE(r.estimate.valid);
-  const skypole::Score s = skypole::score(r.estimate, stack.frames.front().truth);
-  std::cout << "invariance " << label << ": bearing err "
-            << (s.bearing_error_deg ? *s.bearing_error_deg : std::nan("")) << "°, latitude err "
-            << s.latitude_error_deg << "°, angular err " << s.angular_error_deg << "°, residual "
-            << r.estimate.residual_deg << "°"
-            << ", detrended " << r.detrended << ", corotating " << r.corotating << ", window "
-            << r.window_deg << "°, "
-            << r.estimate.seconds << " s\n";
   if (out) *out = r;
-  return s;
+  std::ostringstream extra;
+  extra << ", detrended " << r.detrended << ", corotating " << r.corotating << ", window " << r.window_deg << "°";
+  return testing::require_scored("invariance " + label, r.estimate, stack, extra.str());
 }
 
 }  // namespace
@@ -85,12 +73,7 @@ TEST_CASE("co-rotating invariance needs the sun's declination drift", "[skypole]
 }
 
 TEST_CASE("time invariance in the southern hemisphere finds the SCP", "[skypole][invariance]") {
-  testing::SyntheticSpec spec;
-  spec.latitude_deg = -33.87;
-  spec.longitude_deg = 151.21;
-  spec.times = testing::times_every("2022-09-22T22:00:00Z", "2022-09-23T06:00:00Z", 30);
-  spec.heading_deg = 75;
-  const stack::Stack stack = testing::make_stack(spec);
+  const stack::Stack stack = testing::make_stack(testing::sydney_spec(75));
   skypole::InvarianceResult r;
   const skypole::Score s = run(stack, {}, "Sydney", &r);
   CHECK_FALSE(r.estimate.is_north);

@@ -10,7 +10,7 @@
 #include "sky/units.h"
 #include "skypole/sun_azimuth.h"
 #include "skypole/sun_vector.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 
@@ -97,9 +97,7 @@ TEST_CASE("sun_azimuth finds the pole on a Rayleigh day and on Berry's sky with 
           "[skypole][sun_azimuth]") {
   for (const char* model : {"rayleigh", "berry"}) {
     INFO(model);
-    testing::SyntheticSpec spec;
-    spec.times = testing::paper_times();
-    spec.heading_deg = 63;
+    testing::SyntheticSpec spec = testing::paper_spec(63);
     spec.sky_model = model;
     spec.size = 192;
     const stack::Stack stack = testing::make_stack(spec);

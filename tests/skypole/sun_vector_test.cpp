@@ -11,18 +11,13 @@
 #include "sky/sun.h"
 #include "sky/units.h"
 #include "skypole/sun_vector.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 
 namespace {
 
-testing::SyntheticSpec paper_spec(double heading) {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
-  spec.heading_deg = heading;
-  return spec;
-}
+using testing::paper_spec;
 
 skypole::Score run(const stack::Stack& stack, const skypole::SunVectorParams& p,
                    const std::string& label, skypole::SunVectorResult* out = nullptr) {

@@ -12,9 +12,7 @@
 #include "sky/units.h"
 #include "skypole/evaluate.h"
 #include "skypole/uncertainty.h"
-#include "hand_poles.h"
-#include "jackknife_reading.h"
-#include "synthetic_stack.h"
+#include "fixtures.h"
 
 using namespace skypol;
 
@@ -322,8 +320,7 @@ TEST_CASE("tangent_moved is tangent_offset's inverse", "[skypole][uncertainty]")
 }
 
 TEST_CASE("pixel_angle_deg is 1/fx radians for an equidistant lens", "[skypole][uncertainty]") {
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
+  testing::SyntheticSpec spec = testing::paper_spec(0);
   spec.size = 96;
   const stack::Stack stack = testing::make_stack(spec);
   // synthetic_stack: fx = size/2 / θmax, θmax = 92.5°; equidistant: r = fx·θ, so one pixel from
@@ -345,8 +342,7 @@ TEST_CASE("sector_of deals the image into equal azimuth sectors about a centre",
   // sector_left_out masks that sector's pixels in every frame and touches nothing else. Four
   // sectors of a square image about its centre are equal by symmetry (no pixel centre lies on a
   // boundary ray when the centre is between pixels): exactly a quarter of the 96×96 pixels.
-  testing::SyntheticSpec spec;
-  spec.times = testing::paper_times();
+  testing::SyntheticSpec spec = testing::paper_spec(0);
   spec.size = 96;
   const stack::Stack stack = testing::make_stack(spec);
   const stack::Stack sub = skypole::sector_left_out(stack, c, 2, 4);
@@ -385,10 +381,8 @@ TEST_CASE("the sector jackknife sees a bias that stays in one part of the sky; t
     dolp *= 0.1f;
     aolp = static_cast<float>(std::remainder(static_cast<double>(aolp) + 40 * kRadPerDeg, std::numbers::pi));
   });
-  skypole::InputOptions bare;
-  bare.calibrated = false;
-  bare.sky_mask = false;
-  const testing::ClearAndVeiled r = testing::read_clear_and_veiled("sun_vector", clear, veiled, bare);
+  const testing::ClearAndVeiled r =
+      testing::read_clear_and_veiled("sun_vector", clear, veiled, testing::uncalibrated_unmasked());
   const auto [err_c, frames_c, sectors_c] = r.c;
   const auto [err_v, frames_v, sectors_v] = r.v;
   // The veil moves the answer well beyond the clear day's error (0.03° on this stack) ...
