@@ -42,16 +42,21 @@ std::string resolve(const fs::path& base, const std::string& name) {
   return (p.is_absolute() ? p : base / p).lexically_normal().string();
 }
 
-// A name with * ? [ is a glob over one folder (the folder part itself is literal); matches sorted.
+// A name with * ? [ is a glob over one folder (the folder part itself is literal); matches sorted,
+// each named as resolve names a literal one. A pattern with no folder part, in a capture file named
+// without one (`skypol import capture.toml`), lists the current folder.
 std::vector<std::string> expand(scene::Fields& f, const fs::path& base, const std::string& pattern) {
   const std::string full = resolve(base, pattern);
   if (pattern.find_first_of("*?[") == std::string::npos) return {full};
-  const fs::path dir = fs::path(full).parent_path();
+  const fs::path folder = fs::path(full).parent_path();
+  const fs::path dir = folder.empty() ? fs::path(".") : folder;
   const std::string leaf = fs::path(full).filename().string();
   std::vector<std::string> out;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
-    if (e.is_regular_file() && fnmatch(leaf.c_str(), e.path().filename().c_str(), 0) == 0) out.push_back(e.path().string());
+    if (e.is_regular_file() && fnmatch(leaf.c_str(), e.path().filename().c_str(), 0) == 0) {
+      out.push_back((folder / e.path().filename()).string());
+    }
   }
   if (ec) f.fail("frames", "cannot list " + dir.string() + " (" + ec.message() + ")");
   if (out.empty()) f.fail("frames", "'" + pattern + "' matches no file (in " + dir.string() + ")");

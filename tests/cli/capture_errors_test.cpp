@@ -70,6 +70,25 @@ TEST_CASE("a good hand-made capture imports, with its times from the names", "[c
   CHECK_THAT(folder.out, Catch::Contains("skipped") && Catch::Contains("no .exr stacks"));
 }
 
+TEST_CASE("a capture named without a folder, run in its folder, globs the current folder", "[cli][capture]") {
+  // `skypol import capture.toml` from the capture's folder: the frames' glob has no folder part
+  // either, so the folder to list is the current one ("."), not the empty path.
+  TempDir dir;
+  setup(dir, "[capture]\nframes = [\"f_*.npy\"]\n");
+  const std::string in_dir = "cd '" + dir.path.string() + "' && " + skypol::test::skypol_bin();
+  const Result r = skypol::test::run_shell(in_dir + " import -q capture.toml -o out.exr");
+  INFO(r.out);
+  REQUIRE(r.code == 0);
+  const Result info = run("info " + (dir.path / "out.exr").string());
+  CHECK_THAT(info.out, Catch::Contains("2022-06-21T06:00:00Z") && Catch::Contains("2022-06-21T07:00:00Z"));
+  // A glob that matches nothing there names the current folder.
+  dir.write("nothing.toml", "[capture]\nframes = [\"g_*.npy\"]\n\n" + std::string(kCamera));
+  const Result none = skypol::test::run_shell(in_dir + " import -q nothing.toml -o none.exr");
+  CHECK(none.code == 2);
+  CHECK_THAT(none.out, Catch::Contains("nothing.toml:2") && Catch::Contains("'g_*.npy' matches no file (in .)"));
+  CHECK_FALSE(fs::exists(dir.path / "none.exr"));
+}
+
 TEST_CASE("capture file errors name the key", "[cli][capture]") {
   SECTION("no [capture]") {
     TempDir dir;
