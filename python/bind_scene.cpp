@@ -13,6 +13,7 @@
 #include "python/sun_table.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "scene/scene_source.h"
 #include "scene/truth.h"
 
 namespace skypol::python {
@@ -105,6 +106,8 @@ void bind_scene(py::module_& m) {
       },
       py::arg("text"), py::arg("file_name"), py::arg("overrides") = std::vector<std::string>{},
       "A scene from TOML text; includes resolve against the folder of file_name; raises SceneError");
+  m.def("toml_quoted", &scene::toml_quoted, py::arg("text"),
+        "`text` as a TOML basic string, quoted as the scene language writes one (scene/scene_source.h)");
 }
 
 }  // namespace skypol::python

@@ -87,9 +87,10 @@ def _toml_value(value: Any) -> str:
 
 
 def _toml_quoted(value: Any) -> str:
-    """Inside arrays and tables a string is a TOML string (quoted)."""
+    """Inside arrays and tables a string is a TOML string, quoted by the scene language's own rule
+    (the C++ scene::toml_quoted: control characters escaped too)."""
     if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return _skypol.toml_quoted(value)
     return _toml_value(value)
 
 

@@ -180,6 +180,24 @@ class ErrorsWithLocation(Tmp):
         self.assertEqual(str(e), self.cli_error("render", MARSEILLE, "--set", "camera.tilt_deg=500", "-o",
                                                 self.path("x.exr")))
 
+    def test_strings_in_a_list_override_are_quoted_as_toml(self):
+        # Inside a list a string becomes a TOML basic string (the C++ scene::toml_quoted): quote,
+        # backslash and control characters escaped, so that Python's own TOML reader gives the list back.
+        import tomllib
+        strings = ['a"b\\c', "tab\there", "line\nbreak", "\x01\x7f", "é"]
+        text = skypol._toml_value(strings)
+        self.assertEqual(text, '["a\\"b\\\\c", "tab\\there", "line\\nbreak", "\\u0001\\u007f", "é"]')
+        self.assertEqual(tomllib.loads("x = " + text)["x"], strings)
+        # A newline in a channel's name reaches the loader as the name (a raw newline would be a TOML
+        # syntax error), which names the key, as the CLI does for the same assignment.
+        with self.assertRaises(skypol.SceneError) as c:
+            skypol.load_scene(MARSEILLE, overrides={"output.channels": ["S0", "Do\nLP"]})
+        self.assertEqual(c.exception.key, "output.channels")
+        self.assertIn("unknown channel 'Do\nLP'", str(c.exception))
+        self.assertEqual(str(c.exception).splitlines()[0],
+                         self.cli_error("render", MARSEILLE, "--set", 'output.channels=["S0", "Do\\nLP"]', "-o",
+                                        self.path("x.exr")))
+
     def test_toml_syntax_in_text(self):
         with self.assertRaises(skypol.SceneError) as c:
             skypol.parse_scene("[site]\nlatitude_deg = = 3\n", "notebook.toml")
