@@ -207,9 +207,8 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
     // Uncompressed, nothing that needs whole frames: each part is rendered and written in bands
     // of rows, the next band rendering on the other core while OpenEXR copies this one. The
     // pixel memory is two bands, faulted in once, instead of two frames (80 MB for DoLP and AoLP
-    // of the paper's camera), whose first touch cost a sixth of the 23-frame job's CPU on this
-    // virtual machine; and writing starts after one band, not one frame (docs/benchmarks.md
-    // section 9).
+    // of the paper's camera), whose first touch is a large share of a many-frame job's CPU; and
+    // writing starts after one band, not one frame (docs/benchmarks.md section 9).
     report.write_seconds = stack::write_stack_banded(
         out_path, truths, written, cam->width(), cam->height(), header, wo, kBandRows, t_spare_bands,
         [&](std::size_t i, int y0, int y1, stack::Frame& band) {
@@ -220,10 +219,9 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
         });
   } else if (truths.size() > 1 && stack::encodes_on_calling_thread(wo)) {
     // Uncompressed: OpenEXR copies on this thread alone, so part i + 1 renders on the other core
-    // meanwhile, into a second frame (kept for the next stack too). 23 parts of the paper's
-    // scene: 0.74 s wall in turn, 0.67 s overlapped (docs/benchmarks.md section 9). A compressed
-    // stack's encoding already uses both cores: overlapping it cost 12 % more CPU and 13 % more
-    // wall, so those parts are written in turn.
+    // meanwhile, into a second frame (kept for the next stack too). A compressed stack's encoding
+    // already uses both cores, where overlapping adds CPU and wall time, so those parts are written
+    // in turn (the measurements: docs/benchmarks.md section 9).
     std::array<stack::Frame, 2> frames{std::move(frame), t_spare_second.channels.empty()
                                                              ? renderer.new_frame()
                                                              : std::exchange(t_spare_second, {})};

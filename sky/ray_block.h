@@ -1,7 +1,8 @@
 // Blocks of ViewRays in structure-of-arrays form, for the models' many-directions paths.
 // Why: ViewRay is 6 floats (d, e0), and GCC 12 does not vectorize loads with a stride of 6; copied
-// into six float arrays of a small block, the model's loop vectorizes (measured 1.7× faster than
-// the array-of-structs loop). An internal helper of sky/, not part of the renderer's interface.
+// into six float arrays of a small block, the model's loop vectorizes (the speed-up measured:
+// docs/calibration-history.md, "Measurements behind the code's constants"). An internal helper of
+// sky/, not part of the renderer's interface.
 #pragma once
 
 #include <cstddef>

@@ -132,7 +132,8 @@ std::vector<std::vector<float>> filter_all(const SkyImages& sky, double radius_p
 float valid_quantile(const std::vector<float>& image, const SkyImages& sky, double fraction);
 
 // Which of n values (0-based, in sorted order) the q-quantile is. The callers differ on purpose:
-// the estimators' robust scales were tuned on their medians, the study reports the textbook one.
+// the estimators' robust scales are the medians their calibration is read with, the study reports
+// the textbook one.
 enum class QuantileRank {
   lower,    // ⌊q·(n − 1)⌋: the lower median at q = 0.5, the extremes at q = 0 and 1
   nearest,  // ⌈q·n⌉ − 1, at least 0 (nearest rank: the least value with at least q·n values ≤ it)

@@ -9,9 +9,9 @@
 // cone. Per method: the yield (share of valid answers), the lie rate (valid with error > 5°, or
 // > 5σ), the coverage (share of valid answers whose 95 % cone holds the truth, with its 95 %
 // Wilson interval), the error distribution, and the σ factor that would have made the coverage
-// exactly 95 % (how each method's MethodCalibration, skypole/uncertainty.h, is read by
-// scripts/calibration_tune.py off --uncalibrated runs of tuning seeds; docs/benchmarks.md,
-// section 7, holds seeds out for each method). The same per sky model (calibration_by_sky.csv),
+// exactly 95 % (what scripts/calibration_tune.py reads each method's MethodCalibration,
+// skypole/uncertainty.h, off, from --uncalibrated runs; docs/benchmarks.md section 7 says how, and
+// docs/calibration-history.md which runs). The same per sky model (calibration_by_sky.csv),
 // and auto against each method on the scenes both answer (calibration_auto.csv).
 #include <algorithm>
 #include <cmath>
