@@ -10,6 +10,11 @@ struct BenchFigures {
   int rayleigh_terms = 0, aerosol_terms = 0;
   double rayleigh_mrays_per_s = 0;  // VrteSky batch path, one thread, rays over the whole sky
   double aerosol_mrays_per_s = 0;
+  // The renderer's path (stokes_soa in chunks of 256 rays, one thread, the rays of a zenith fisheye
+  // row by row) for the aerosol table and for single scattering (RayleighSky) on the same rays, and the per-sun plan VrteSky makes once
+  // per frame (a new sun every call).
+  double aerosol_soa_mrays_per_s = 0, single_soa_mrays_per_s = 0;
+  double aerosol_plan_ms = 0;
   int threads = 0;
 };
 
