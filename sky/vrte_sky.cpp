@@ -257,15 +257,20 @@ SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* _
   }
 }
 
-void vrte_float(const Kernel& p, std::size_t n, const float* dx, const float* dy, const float* dz, const float* ux,
-                const float* uy, const float* uz, float* s0, float* s1, float* s2, float* s3) {
+// Bands p[b] into out[b]: their kernels differ only in the tables (the sun and the grid are the
+// same), so the first pass runs once per block for all of them.
+void vrte_float(std::span<const Kernel* const> p, const ViewRaysSoA& rays, std::span<const StokesSoA> out) {
   Stencils st;
-  for (std::size_t first = 0; first < n; first += kBlock) {
-    const std::size_t m = std::min(kBlock, n - first);
-    stencils(p, m, dx + first, dy + first, dz + first, st);
-    table_reads(p, m, st);
-    combine(p, m, dx + first, dy + first, dz + first, ux + first, uy + first, uz + first, st, s0 + first,
-            s1 + first, s2 + first, s3 + first);
+  const float *dx = rays.dx, *dy = rays.dy, *dz = rays.dz, *ux = rays.ux, *uy = rays.uy, *uz = rays.uz;
+  for (std::size_t first = 0; first < rays.count; first += kBlock) {
+    const std::size_t m = std::min(kBlock, rays.count - first);
+    stencils(*p[0], m, dx + first, dy + first, dz + first, st);
+    for (std::size_t b = 0; b < p.size(); ++b) {
+      table_reads(*p[b], m, st);
+      const StokesSoA& o = out[b];
+      combine(*p[b], m, dx + first, dy + first, dz + first, ux + first, uy + first, uz + first, st, o.s0 + first,
+              o.s1 + first, o.s2 + first, o.s3 + first);
+    }
   }
 }
 
@@ -363,7 +368,9 @@ void VrteSky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<St
   detail::for_each_ray_block(rays, [&](const detail::RayBlock& b) {
     alignas(32) float s0[detail::RayBlock::kSize], s1[detail::RayBlock::kSize], s2[detail::RayBlock::kSize],
         s3[detail::RayBlock::kSize];
-    vrte_float(p->kernel, b.count, b.dx, b.dy, b.dz, b.ux, b.uy, b.uz, s0, s1, s2, s3);
+    const Kernel* k[] = {&p->kernel};
+    const StokesSoA planes[] = {{s0, s1, s2, s3}};
+    vrte_float(k, {b.count, b.dx, b.dy, b.dz, b.ux, b.uy, b.uz}, planes);
     StokesF* o = out.data() + b.first;
     for (std::size_t j = 0; j < b.count; ++j) o[j] = {s0[j], s1[j], s2[j], s3[j]};
   });
@@ -375,8 +382,32 @@ void VrteSky::stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSo
     for (float* o : {out.s0, out.s1, out.s2, out.s3}) std::fill(o, o + rays.count, 0.0f);
     return;
   }
-  vrte_float(p->kernel, rays.count, rays.dx, rays.dy, rays.dz, rays.ux, rays.uy, rays.uz, out.s0, out.s1, out.s2,
-             out.s3);
+  const Kernel* k[] = {&p->kernel};
+  vrte_float(k, rays, {&out, 1});
+}
+
+bool VrteSky::stokes_soa_bands(std::span<const SkyModel* const> skies, const ViewRaysSoA& rays, const Sun& sun,
+                               std::span<const StokesSoA> out) {
+  const std::size_t n = skies.size();
+  if (n < 2 || n > kMaxBands || out.size() != n) return false;
+  std::array<const VrteSky*, kMaxBands> v{};
+  for (std::size_t b = 0; b < n; ++b) {
+    v[b] = dynamic_cast<const VrteSky*>(skies[b]);
+    if (!v[b] || v[b]->table_->grid() != v[0]->table_->grid()) return false;
+  }
+  std::array<std::shared_ptr<const SunPlan>, kMaxBands> plans;
+  std::array<const Kernel*, kMaxBands> kernels{};
+  for (std::size_t b = 0; b < n; ++b) {
+    plans[b] = v[b]->plan(sun);
+    kernels[b] = &plans[b]->kernel;
+  }
+  if (!plans[0]->lit) {  // the same sun for every band
+    for (const StokesSoA& o : out)
+      for (float* c : {o.s0, o.s1, o.s2, o.s3}) std::fill(c, c + rays.count, 0.0f);
+    return true;
+  }
+  vrte_float(std::span(kernels).first(n), rays, out);
+  return true;
 }
 
 }  // namespace skypol::sky
