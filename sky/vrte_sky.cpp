@@ -123,7 +123,8 @@ struct Kernel {
 //     vector register) do;
 //  3. (vectorized) the multiple scattering turned from the meridian basis into the caller's, the
 //     single scattering as ωF11 and the polarized part along E = d × s (as in RayleighSky), then
-//     VrteSky's rules.
+//     VrteSky's rules; what does not depend on the band (the turn, E's components) in a pass
+//     of its own, so that a colour scene's bands share it with the first.
 // Indices are clamped as integers, so that any input (NaN, whose conversion gives INT_MIN,
 // included) reads inside the arrays; a float clamp before the conversion would keep GCC 12 from
 // vectorizing the table reads. Plain arithmetic and selects, restrict-qualified arrays.
@@ -138,6 +139,9 @@ struct Stencils {
   alignas(32) float fk[kBlock], fg[kBlock];                 // and the steps from them
   alignas(32) float i[kBlock], q[kBlock], u[kBlock];  // multiple scattering, meridian basis, |Δφ|
   alignas(32) float f11[kBlock], h12[kBlock], g[kBlock];  // ωF11, −ωF12/sin²Θ, the factor
+  // The view's side of the sun's vertical (ρ sin Δφ), the turn to the caller's basis (cos 2χ,
+  // sin 2χ), and E·e0, s·e0 for the single scattering's polarization.
+  alignas(32) float sn[kBlock], cr[kBlock], sr[kBlock], a[kBlock], b[kBlock];
 };
 
 SKYPOL_VECTOR_CLONES void stencils(const Kernel& p, std::size_t n, const float* __restrict dx_,
@@ -212,35 +216,49 @@ SKYPOL_VECTOR_CLONES void table_reads(const Kernel& p, std::size_t n, Stencils& 
   }
 }
 
-SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* __restrict dx_,
-                                  const float* __restrict dy_, const float* __restrict dz_,
-                                  const float* __restrict ux_, const float* __restrict uy_,
-                                  const float* __restrict uz_, const Stencils& st, float* __restrict s0,
-                                  float* __restrict s1, float* __restrict s2, float* __restrict s3) {
-  const float sx = p.sx, sy = p.sy, sz = p.sz, shx = p.hx, shy = p.hy, ground = p.ground;
-  const float* __restrict mi_ = st.i;
-  const float* __restrict mq_ = st.q;
-  const float* __restrict mu_ = st.u;
-  const float* __restrict f11_ = st.f11;
-  const float* __restrict h12_ = st.h12;
-  const float* __restrict g_ = st.g;
+// The part of pass 3 that does not depend on the band.
+SKYPOL_VECTOR_CLONES void rotations(const Kernel& p, std::size_t n, const float* __restrict dx_,
+                                    const float* __restrict dy_, const float* __restrict dz_,
+                                    const float* __restrict ux_, const float* __restrict uy_,
+                                    const float* __restrict uz_, Stencils& st) {
+  const float sx = p.sx, sy = p.sy, sz = p.sz, shx = p.hx, shy = p.hy;
+  float *__restrict sn_ = st.sn, *__restrict cr_ = st.cr, *__restrict sr_ = st.sr;
+  float *__restrict a_ = st.a, *__restrict b_ = st.b;
   for (std::size_t j = 0; j < n; ++j) {
     const float dx = dx_[j], dy = dy_[j], dz = dz_[j];
     const float ux = ux_[j], uy = uy_[j], uz = uz_[j];
     const float r2 = dx * dx + dy * dy;
     const bool zenith = !(r2 > 1e-12f);
-    const float sn = zenith ? 0.0f : shx * dy - shy * dx;
-    const float mi = mi_[j], mq = mq_[j], mu = sn < 0.0f ? -mu_[j] : mu_[j];  // U is odd in Δφ
+    sn_[j] = zenith ? 0.0f : shx * dy - shy * dx;
     // Meridian basis (e0m = (h dz, −ρ), e90m = ẑ × h with h = d_h/ρ) to the caller's (e0, d × e0):
     // the angle's cos 2χ and sin 2χ from ρ·(e0·e0m) and ρ·(e0·e90m).
     const float A = zenith ? (ux * shx + uy * shy) * dz : (ux * dx + uy * dy) * dz - uz * r2;
     const float B = zenith ? uy * shx - ux * shy : uy * dx - ux * dy;
     const float ab = A * A + B * B;
     const float inv = ab > 0.0f ? 1.0f / ab : 0.0f;
-    const float cr = (A * A - B * B) * inv, sr = 2.0f * A * B * inv;
+    cr_[j] = (A * A - B * B) * inv, sr_[j] = 2.0f * A * B * inv;
     // Single scattering. E = d × s; a = E·e0, b = E·(d × e0) = s·e0 (d unit, e0 ⟂ d).
     const float ex = dy * sz - dz * sy, ey = dz * sx - dx * sz, ez = dx * sy - dy * sx;
-    const float a = ex * ux + ey * uy + ez * uz, b = sx * ux + sy * uy + sz * uz;
+    a_[j] = ex * ux + ey * uy + ez * uz, b_[j] = sx * ux + sy * uy + sz * uz;
+  }
+}
+
+SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* __restrict dz_, const Stencils& st,
+                                  float* __restrict s0, float* __restrict s1, float* __restrict s2,
+                                  float* __restrict s3) {
+  const float ground = p.ground;
+  const float* __restrict mi_ = st.i;
+  const float* __restrict mq_ = st.q;
+  const float* __restrict mu_ = st.u;
+  const float* __restrict f11_ = st.f11;
+  const float* __restrict h12_ = st.h12;
+  const float* __restrict g_ = st.g;
+  const float *__restrict sn_ = st.sn, *__restrict cr_ = st.cr, *__restrict sr_ = st.sr;
+  const float *__restrict a_ = st.a, *__restrict b_ = st.b;
+  for (std::size_t j = 0; j < n; ++j) {
+    const float dz = dz_[j];
+    const float mi = mi_[j], mq = mq_[j], mu = sn_[j] < 0.0f ? -mu_[j] : mu_[j];  // U is odd in Δφ
+    const float cr = cr_[j], sr = sr_[j], a = a_[j], b = b_[j];
     const float f11 = f11_[j], g = g_[j];
     const float pol = h12_[j] * g;
     const float i = mi + f11 * g;
@@ -258,18 +276,18 @@ SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* _
 }
 
 // Bands p[b] into out[b]: their kernels differ only in the tables (the sun and the grid are the
-// same), so the first pass runs once per block for all of them.
+// same), so the first pass and the band-free part of the third run once per block for all of them.
 void vrte_float(std::span<const Kernel* const> p, const ViewRaysSoA& rays, std::span<const StokesSoA> out) {
   Stencils st;
   const float *dx = rays.dx, *dy = rays.dy, *dz = rays.dz, *ux = rays.ux, *uy = rays.uy, *uz = rays.uz;
   for (std::size_t first = 0; first < rays.count; first += kBlock) {
     const std::size_t m = std::min(kBlock, rays.count - first);
     stencils(*p[0], m, dx + first, dy + first, dz + first, st);
+    rotations(*p[0], m, dx + first, dy + first, dz + first, ux + first, uy + first, uz + first, st);
     for (std::size_t b = 0; b < p.size(); ++b) {
       table_reads(*p[b], m, st);
       const StokesSoA& o = out[b];
-      combine(*p[b], m, dx + first, dy + first, dz + first, ux + first, uy + first, uz + first, st, o.s0 + first,
-              o.s1 + first, o.s2 + first, o.s3 + first);
+      combine(*p[b], m, dz + first, st, o.s0 + first, o.s1 + first, o.s2 + first, o.s3 + first);
     }
   }
 }
