@@ -32,6 +32,18 @@ std::shared_ptr<const vrte::VrteTable> rayleigh_table(double tau, double rho, do
   return std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, albedo, opt));
 }
 
+// Molecules (τ 0.1) with a polarizing, forward-scattering aerosol: 24 Fourier terms, an aureole in
+// the exact single scattering.
+std::shared_ptr<const vrte::VrteTable> hazy_table() {
+  LayerOptics o;
+  o.tau_rayleigh = 0.1;
+  o.depolarization = 0.0279;
+  o.tau_aerosol = 0.2;
+  o.aerosol_ssa = 0.95;
+  o.aerosol = vrte::synthetic_aerosol(0.7, 200, 0.2, 0.05);
+  return std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {}));
+}
+
 // The local-meridian basis: e0 towards the zenith along the meridian (North at the zenith).
 Eigen::Vector3d meridian_e0(const Eigen::Vector3d& d) {
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ() - d.z() * d;
@@ -230,14 +242,7 @@ TEST_CASE("The batch path (one plan per sun, float) agrees with the scalar path 
           "[vrte][sky]") {
   // Molecules alone (3 Fourier terms) and molecules with a polarizing, forward-scattering aerosol
   // (24 terms, an aureole in the exact single scattering), for suns from the horizon to the zenith.
-  LayerOptics o;
-  o.tau_rayleigh = 0.1;
-  o.depolarization = 0.0279;
-  const VrteSky clear(std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {})));
-  o.tau_aerosol = 0.2;
-  o.aerosol_ssa = 0.95;
-  o.aerosol = vrte::synthetic_aerosol(0.7, 200, 0.2, 0.05);
-  const VrteSky hazy(std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {})));
+  const VrteSky clear(rayleigh_table(0.1, 0.0279, 0.1)), hazy(hazy_table());
   PathDifference worst;
   for (const VrteSky* sky : {&clear, &hazy})
     for (double el : {1.0, 5.0, 35.0, 70.0, 90.0}) {
@@ -308,14 +313,7 @@ TEST_CASE("Bands evaluated together give each band's own floats; other model set
           "[vrte][sky]") {
   // Three bands as a colour scene has them: molecules at two depths and molecules with aerosol
   // (24 Fourier terms against 3), all on the default grid.
-  LayerOptics o;
-  o.tau_rayleigh = 0.1;
-  o.depolarization = 0.0279;
-  o.tau_aerosol = 0.2;
-  o.aerosol_ssa = 0.95;
-  o.aerosol = vrte::synthetic_aerosol(0.7, 200, 0.2, 0.05);
-  const VrteSky red(rayleigh_table(0.05, 0.0279, 0.1)), green(rayleigh_table(0.1, 0.0279, 0.1));
-  const VrteSky blue(std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {})));
+  const VrteSky red(rayleigh_table(0.05, 0.0279, 0.1)), green(rayleigh_table(0.1, 0.0279, 0.1)), blue(hazy_table());
   const SkyModel* bands[] = {&red, &green, &blue};
   const Sun sun = sun_at(200.0, 35.0);
   const std::vector<ViewRay> rays = sample_rays(sun, 500);
