@@ -357,8 +357,7 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
         std::array<sky::StokesSoA, sky::VrteSky::kMaxBands> planes;
         const std::size_t together_bands = std::min(out.bands.size(), planes.size());
         for (std::size_t k = 0; k < together_bands; ++k) planes[k] = planes_of(k);
-        const bool together =
-            sky::VrteSky::stokes_soa_bands(skies, rays, sun, std::span(planes).first(together_bands));
+        const bool together = sky::VrteSky::stokes_soa_bands(skies, rays, sun, std::span(planes).first(together_bands));
         for (std::size_t k = 0; k < out.bands.size(); ++k) {
           const BandOutputs& b = out.bands[k];
           const sky::StokesSoA s = k < planes.size() ? planes[k] : planes_of(k);

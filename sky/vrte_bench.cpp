@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -103,8 +103,7 @@ double soa_rate(std::span<const SkyModel* const> skies, int n) {
   return rate([&] {
            for (std::size_t x = 0; x < m; x += kChunk) {
              const std::size_t k = std::min(kChunk, m - x);
-             const ViewRaysSoA r{k,         &in[x],         &in[m + x],     &in[2 * m + x],
-                                 &in[3 * m + x], &in[4 * m + x], &in[5 * m + x]};
+             const ViewRaysSoA r{k, &in[x], &in[m + x], &in[2 * m + x], &in[3 * m + x], &in[4 * m + x], &in[5 * m + x]};
              std::array<StokesSoA, VrteSky::kMaxBands> o;
              for (std::size_t b = 0; b < bands; ++b) {
                float* base = &out[4 * b * m + x];
@@ -128,10 +127,10 @@ double plan_ms(const std::shared_ptr<const VrteTable>& table) {
   const ViewRaysSoA r{1, &d[0], &d[1], &d[2], &e[0], &e[1], &e[2]};
   int k = 0;
   return 1e3 / rate([&] {
-    Sun sun;
-    sun.direction = Eigen::Vector3d(0.3, 0.5, 0.5 + 0.001 * (++k)).normalized();
-    sky.stokes_soa(r, sun, {&o[0], &o[1], &o[2], &o[3]});
-  });
+           Sun sun;
+           sun.direction = Eigen::Vector3d(0.3, 0.5, 0.5 + 0.001 * (++k)).normalized();
+           sky.stokes_soa(r, sun, {&o[0], &o[1], &o[2], &o[3]});
+         });
 }
 
 }  // namespace

@@ -70,9 +70,10 @@ int main(int argc, char** argv) {
     }
   }
   if (!sweep.empty()) {
-    std::printf("Natraj et al. 2009's sample (%zu entries, 9 layers: tau 0.02, 0.25, 1 x albedo 0, 0.25, 0.8), "
-                "one solve per layer on %u thread(s):\n",
-                sizeof kRows / sizeof kRows[0], std::thread::hardware_concurrency());
+    std::printf(
+        "Natraj et al. 2009's sample (%zu entries, 9 layers: tau 0.02, 0.25, 1 x albedo 0, 0.25, 0.8), "
+        "one solve per layer on %u thread(s):\n",
+        sizeof kRows / sizeof kRows[0], std::thread::hardware_concurrency());
     for (int s : sweep) natraj(s);
     return 0;
   }
@@ -87,9 +88,10 @@ int main(int argc, char** argv) {
   std::printf("  molecules + aerosol:   %.2f Mrays/s\n", b.aerosol_soa_mrays_per_s);
   std::printf("  three such bands:      %.2f Mrays/s  (together, each ray in all three: %.2fx one band's time)\n",
               b.aerosol_bands_soa_mrays_per_s, b.aerosol_soa_mrays_per_s / b.aerosol_bands_soa_mrays_per_s);
-  std::printf("  single scattering:     %.2f Mrays/s  (the kernel alone: vrte costs %.2fx; the renderer's sky\n"
-              "                         stage adds per-pixel work both share, skypol bench)\n",
-              b.single_soa_mrays_per_s, b.single_soa_mrays_per_s / b.aerosol_soa_mrays_per_s);
+  std::printf(
+      "  single scattering:     %.2f Mrays/s  (the kernel alone: vrte costs %.2fx; the renderer's sky\n"
+      "                         stage adds per-pixel work both share, skypol bench)\n",
+      b.single_soa_mrays_per_s, b.single_soa_mrays_per_s / b.aerosol_soa_mrays_per_s);
   std::printf("  per-sun plan:          %.3f ms  (once per frame and band)\n", b.aerosol_plan_ms);
   return 0;
 }
