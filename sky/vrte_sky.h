@@ -48,9 +48,9 @@ class VrteSky final : public SkyModel {
 
   // A colour scene's bands at once: skies[i] into out[i], each bit for bit what its own stokes_soa
   // writes, with what does not depend on the band (the view's stencils in μ and azimuth, the
-  // scattering angle and the nodes below it) computed once for them all. Returns false, having
-  // written nothing, unless there are 2 to kMaxBands models, all of them VrteSky on tables of
-  // one grid, and as many outputs.
+  // scattering angle and the nodes below it, the turn into the caller's basis) computed once for
+  // them all. Returns false, having written nothing, unless there are 2 to kMaxBands models, all
+  // of them VrteSky on tables of one grid, and as many outputs.
   static constexpr std::size_t kMaxBands = 8;
   static bool stokes_soa_bands(std::span<const SkyModel* const> skies, const ViewRaysSoA& rays, const Sun& sun,
                                std::span<const StokesSoA> out);
