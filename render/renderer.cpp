@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -15,6 +16,7 @@
 #include "render/occlusion_pass.h"
 #include "stack/polarization_math.h"
 #include "sky/vector_clones.h"
+#include "sky/vrte_sky.h"
 
 namespace skypol::render {
 namespace {
@@ -292,7 +294,9 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
   const int tile = options_.tile_rows;
   tbb::enumerable_thread_specific<TileRays> tile_rays;  // used only without planes_
   tbb::parallel_for(0, (h + tile - 1) / tile, [&](int t) {
-    alignas(64) float scratch[4][kChunk];
+    // Where a band's Stokes planes go when the frame has no channel for them; one set per band, as
+    // a colour vrte sky writes its bands together.
+    alignas(64) float scratch[sky::VrteSky::kMaxBands][4][kChunk];
     const int y0 = first + t * tile, y1 = std::min(last, y0 + tile);
     TileRays* traced = nullptr;
     if (!planes_) {
@@ -342,11 +346,22 @@ void Renderer::render_cached(std::span<const sky::SkyModel* const> skies, const 
         const float *ux = span.ux + q, *uy = span.uy + q, *uz = span.uz + q;
         const sky::ViewRaysSoA rays{n, dx, dy, dz, ux, uy, uz};
         const float* weight = span.weight + q;
+        auto planes_of = [&](std::size_t k) {
+          const BandOutputs& b = out.bands[k];
+          float(&sc)[4][kChunk] = scratch[k % sky::VrteSky::kMaxBands];
+          return sky::StokesSoA{b.s0 ? b.s0 + i : sc[0], b.s1 ? b.s1 + i : sc[1], b.s2 ? b.s2 + i : sc[2],
+                                b.s3 ? b.s3 + i : sc[3]};
+        };
+        // A colour vrte sky evaluates its bands together (the per-pixel geometry once); any other
+        // sky band by band.
+        std::array<sky::StokesSoA, sky::VrteSky::kMaxBands> planes;
+        const std::size_t together_bands = std::min(out.bands.size(), planes.size());
+        for (std::size_t k = 0; k < together_bands; ++k) planes[k] = planes_of(k);
+        const bool together = sky::VrteSky::stokes_soa_bands(skies, rays, sun, std::span(planes).first(together_bands));
         for (std::size_t k = 0; k < out.bands.size(); ++k) {
           const BandOutputs& b = out.bands[k];
-          const sky::StokesSoA s{b.s0 ? b.s0 + i : scratch[0], b.s1 ? b.s1 + i : scratch[1],
-                                 b.s2 ? b.s2 + i : scratch[2], b.s3 ? b.s3 + i : scratch[3]};
-          skies[k]->stokes_soa(rays, sun, s);
+          const sky::StokesSoA s = k < planes.size() ? planes[k] : planes_of(k);
+          if (!together) skies[k]->stokes_soa(rays, sun, s);
           if (projected) {
             for (std::size_t j = 0; j < n; ++j) {
               if (weight[j] == 0) continue;

@@ -111,15 +111,20 @@ struct Kernel {
 
 // The pixel loop runs in blocks, in three passes:
 //  1. (vectorized) the view's Δφ from the sun and its azimuth node (no trig: tan(Δφ/2) or
-//     cot(Δφ/2) from ρ·cos and ρ·sin), its v and the table's four-point Lagrange weights in μ;
-//  2. (one pixel at a time, eight floats at once) the multiple scattering: at each of the four μ
-//     nodes the plan's I, Q, U at the two azimuth nodes are six consecutive floats, read as one
-//     vector and weighted; then the linear step in azimuth. Contiguous loads cost a third of what
-//     the vectorizer's emulated gathers (24 scalar loads a pixel) do;
+//     cot(Δφ/2) from ρ·cos and ρ·sin), its v and the table's four-point Lagrange weights in μ,
+//     the scattering angle (2 asin |d − s|/2, exact near the sun) and the node of the phase
+//     table and of the factor's grid below it;
+//  2. (one pixel at a time) every table read: the multiple scattering, eight floats at once (at
+//     each of the four μ nodes the plan's I, Q, U at the two azimuth nodes are six consecutive
+//     floats, read as one vector and weighted; then the linear step in azimuth), and the linear
+//     steps in the phase table (ωF11 and −ωF12/sin²Θ of two neighbouring angles: four
+//     consecutive floats) and in the factor (two). Contiguous loads cost a fraction of what the
+//     vectorizer's emulated gathers (30 scalar loads a pixel, each with its index moved out of a
+//     vector register) do;
 //  3. (vectorized) the multiple scattering turned from the meridian basis into the caller's, the
-//     single scattering as ωF11 and the polarized part along E = d × s (as in RayleighSky) from
-//     the scattering angle (2 asin |d − s|/2, exact near the sun) and the factor at v, then
-//     VrteSky's rules.
+//     single scattering as ωF11 and the polarized part along E = d × s (as in RayleighSky), then
+//     VrteSky's rules; what does not depend on the band (the turn, E's components) in a pass
+//     of its own, so that a colour scene's bands share it with the first.
 // Indices are clamped as integers, so that any input (NaN, whose conversion gives INT_MIN,
 // included) reads inside the arrays; a float clamp before the conversion would keep GCC 12 from
 // vectorizing the table reads. Plain arithmetic and selects, restrict-qualified arrays.
@@ -129,18 +134,27 @@ using Float8 = float __attribute__((vector_size(32)));
 
 struct Stencils {
   alignas(32) int offset[kBlock];  // the first μ node's I at the first azimuth node
-  alignas(32) float w0[kBlock], w1[kBlock], w2[kBlock], w3[kBlock], ft[kBlock], v[kBlock];
+  alignas(32) float w0[kBlock], w1[kBlock], w2[kBlock], w3[kBlock], ft[kBlock];
+  alignas(32) int phase_node[kBlock], factor_node[kBlock];  // the nodes below Θ and below v
+  alignas(32) float fk[kBlock], fg[kBlock];                 // and the steps from them
   alignas(32) float i[kBlock], q[kBlock], u[kBlock];  // multiple scattering, meridian basis, |Δφ|
+  alignas(32) float f11[kBlock], h12[kBlock], g[kBlock];  // ωF11, −ωF12/sin²Θ, the factor
+  // The view's side of the sun's vertical (ρ sin Δφ), the turn to the caller's basis (cos 2χ,
+  // sin 2χ), and E·e0, s·e0 for the single scattering's polarization.
+  alignas(32) float sn[kBlock], cr[kBlock], sr[kBlock], a[kBlock], b[kBlock];
 };
 
 SKYPOL_VECTOR_CLONES void stencils(const Kernel& p, std::size_t n, const float* __restrict dx_,
                                    const float* __restrict dy_, const float* __restrict dz_, Stencils& st) {
-  const float shx = p.hx, shy = p.hy;
-  const int grid = p.grid;
+  const float sx = p.sx, sy = p.sy, sz = p.sz, shx = p.hx, shy = p.hy;
+  const int grid = p.grid, phase_nodes = p.phase_nodes, factor_steps = p.factor_steps;
   constexpr float kTwoOverPi = static_cast<float>(2.0 / std::numbers::pi);
+  const float phase_scale = static_cast<float>(phase_nodes - 1) * static_cast<float>(1.0 / std::numbers::pi);
   int* __restrict offset = st.offset;
   float *__restrict w0 = st.w0, *__restrict w1 = st.w1, *__restrict w2 = st.w2, *__restrict w3 = st.w3;
-  float *__restrict ft_ = st.ft, *__restrict v_ = st.v;
+  float* __restrict ft_ = st.ft;
+  int *__restrict phase_node = st.phase_node, *__restrict factor_node = st.factor_node;
+  float *__restrict fk_ = st.fk, *__restrict fg_ = st.fg;
   for (std::size_t j = 0; j < n; ++j) {
     const float dx = dx_[j], dy = dy_[j], dz = dz_[j];
     // ρ·(cos Δφ, sin Δφ) from the view's horizontal part (ρ = |d_h|); within 1e-6 of the zenith
@@ -164,11 +178,23 @@ SKYPOL_VECTOR_CLONES void stencils(const Kernel& p, std::size_t n, const float* 
     w2[j] = -(tt + 1.0f) * tt * (tt - 2.0f) * 0.5f;
     w3[j] = (tt + 1.0f) * tt * (tt - 1.0f) * (1.0f / 6.0f);
     offset[j] = base * kRow + 3 * ja;
-    v_[j] = v;
+    const float qx = dx - sx, qy = dy - sy, qz = dz - sz;
+    const float half = std::min(1.0f, 0.5f * std::sqrt(qx * qx + qy * qy + qz * qz));
+    const float th = 2.0f * asin_approx(half) * phase_scale;
+    const int k = nonnegative(min_index(static_cast<int>(th), phase_nodes - 2));
+    phase_node[j] = k;
+    fk_[j] = th - static_cast<float>(k);
+    const float ug = v * static_cast<float>(factor_steps);
+    const int ig = nonnegative(min_index(static_cast<int>(ug), factor_steps - 1));
+    factor_node[j] = ig;
+    fg_[j] = ug - static_cast<float>(ig);
   }
 }
 
-SKYPOL_VECTOR_CLONES void multiple_scattering(const float* __restrict ms, std::size_t n, Stencils& st) {
+SKYPOL_VECTOR_CLONES void table_reads(const Kernel& p, std::size_t n, Stencils& st) {
+  const float* __restrict ms = p.ms;
+  const float* __restrict phase = p.phase;
+  const float* __restrict factor = p.factor;
   for (std::size_t j = 0; j < n; ++j) {
     const float* r = ms + st.offset[j];
     Float8 a0, a1, a2, a3;
@@ -181,52 +207,60 @@ SKYPOL_VECTOR_CLONES void multiple_scattering(const float* __restrict ms, std::s
     st.i[j] = m[0] + f * (m[3] - m[0]);
     st.q[j] = m[1] + f * (m[4] - m[1]);
     st.u[j] = m[2] + f * (m[5] - m[2]);
+    const float* h = phase + 2 * st.phase_node[j];
+    const float fk = st.fk[j];
+    st.f11[j] = h[0] + fk * (h[2] - h[0]);
+    st.h12[j] = h[1] + fk * (h[3] - h[1]);
+    const float* g = factor + st.factor_node[j];
+    st.g[j] = g[0] + st.fg[j] * (g[1] - g[0]);
   }
 }
 
-SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* __restrict dx_,
-                                  const float* __restrict dy_, const float* __restrict dz_,
-                                  const float* __restrict ux_, const float* __restrict uy_,
-                                  const float* __restrict uz_, const Stencils& st, float* __restrict s0,
-                                  float* __restrict s1, float* __restrict s2, float* __restrict s3) {
-  const float sx = p.sx, sy = p.sy, sz = p.sz, shx = p.hx, shy = p.hy, ground = p.ground;
-  const int phase_nodes = p.phase_nodes, factor_steps = p.factor_steps;
-  const float* __restrict factor = p.factor;
-  const float* __restrict phase = p.phase;
-  const float* __restrict mi_ = st.i;
-  const float* __restrict mq_ = st.q;
-  const float* __restrict mu_ = st.u;
-  const float* __restrict v_ = st.v;
-  const float phase_scale = static_cast<float>(phase_nodes - 1) * static_cast<float>(1.0 / std::numbers::pi);
+// The part of pass 3 that does not depend on the band.
+SKYPOL_VECTOR_CLONES void rotations(const Kernel& p, std::size_t n, const float* __restrict dx_,
+                                    const float* __restrict dy_, const float* __restrict dz_,
+                                    const float* __restrict ux_, const float* __restrict uy_,
+                                    const float* __restrict uz_, Stencils& st) {
+  const float sx = p.sx, sy = p.sy, sz = p.sz, shx = p.hx, shy = p.hy;
+  float *__restrict sn_ = st.sn, *__restrict cr_ = st.cr, *__restrict sr_ = st.sr;
+  float *__restrict a_ = st.a, *__restrict b_ = st.b;
   for (std::size_t j = 0; j < n; ++j) {
     const float dx = dx_[j], dy = dy_[j], dz = dz_[j];
     const float ux = ux_[j], uy = uy_[j], uz = uz_[j];
     const float r2 = dx * dx + dy * dy;
     const bool zenith = !(r2 > 1e-12f);
-    const float sn = zenith ? 0.0f : shx * dy - shy * dx;
-    const float mi = mi_[j], mq = mq_[j], mu = sn < 0.0f ? -mu_[j] : mu_[j];  // U is odd in Δφ
+    sn_[j] = zenith ? 0.0f : shx * dy - shy * dx;
     // Meridian basis (e0m = (h dz, −ρ), e90m = ẑ × h with h = d_h/ρ) to the caller's (e0, d × e0):
     // the angle's cos 2χ and sin 2χ from ρ·(e0·e0m) and ρ·(e0·e90m).
     const float A = zenith ? (ux * shx + uy * shy) * dz : (ux * dx + uy * dy) * dz - uz * r2;
     const float B = zenith ? uy * shx - ux * shy : uy * dx - ux * dy;
     const float ab = A * A + B * B;
     const float inv = ab > 0.0f ? 1.0f / ab : 0.0f;
-    const float cr = (A * A - B * B) * inv, sr = 2.0f * A * B * inv;
+    cr_[j] = (A * A - B * B) * inv, sr_[j] = 2.0f * A * B * inv;
     // Single scattering. E = d × s; a = E·e0, b = E·(d × e0) = s·e0 (d unit, e0 ⟂ d).
     const float ex = dy * sz - dz * sy, ey = dz * sx - dx * sz, ez = dx * sy - dy * sx;
-    const float a = ex * ux + ey * uy + ez * uz, b = sx * ux + sy * uy + sz * uz;
-    const float qx = dx - sx, qy = dy - sy, qz = dz - sz;
-    const float half = std::min(1.0f, 0.5f * std::sqrt(qx * qx + qy * qy + qz * qz));
-    const float th = 2.0f * asin_approx(half) * phase_scale;
-    const int k = nonnegative(min_index(static_cast<int>(th), phase_nodes - 2));
-    const float fk = th - static_cast<float>(k);
-    const float f11 = phase[2 * k] + fk * (phase[2 * k + 2] - phase[2 * k]);
-    const float h12 = phase[2 * k + 1] + fk * (phase[2 * k + 3] - phase[2 * k + 1]);
-    const float ug = v_[j] * static_cast<float>(factor_steps);
-    const int ig = nonnegative(min_index(static_cast<int>(ug), factor_steps - 1));
-    const float fg = ug - static_cast<float>(ig);
-    const float g = factor[ig] + fg * (factor[ig + 1] - factor[ig]);
-    const float pol = h12 * g;
+    a_[j] = ex * ux + ey * uy + ez * uz, b_[j] = sx * ux + sy * uy + sz * uz;
+  }
+}
+
+SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* __restrict dz_, const Stencils& st,
+                                  float* __restrict s0, float* __restrict s1, float* __restrict s2,
+                                  float* __restrict s3) {
+  const float ground = p.ground;
+  const float* __restrict mi_ = st.i;
+  const float* __restrict mq_ = st.q;
+  const float* __restrict mu_ = st.u;
+  const float* __restrict f11_ = st.f11;
+  const float* __restrict h12_ = st.h12;
+  const float* __restrict g_ = st.g;
+  const float *__restrict sn_ = st.sn, *__restrict cr_ = st.cr, *__restrict sr_ = st.sr;
+  const float *__restrict a_ = st.a, *__restrict b_ = st.b;
+  for (std::size_t j = 0; j < n; ++j) {
+    const float dz = dz_[j];
+    const float mi = mi_[j], mq = mq_[j], mu = sn_[j] < 0.0f ? -mu_[j] : mu_[j];  // U is odd in Δφ
+    const float cr = cr_[j], sr = sr_[j], a = a_[j], b = b_[j];
+    const float f11 = f11_[j], g = g_[j];
+    const float pol = h12_[j] * g;
     const float i = mi + f11 * g;
     const float q = mq * cr + mu * sr + pol * (a * a - b * b);
     const float w = -mq * sr + mu * cr + pol * 2.0f * a * b;
@@ -241,15 +275,20 @@ SKYPOL_VECTOR_CLONES void combine(const Kernel& p, std::size_t n, const float* _
   }
 }
 
-void vrte_float(const Kernel& p, std::size_t n, const float* dx, const float* dy, const float* dz, const float* ux,
-                const float* uy, const float* uz, float* s0, float* s1, float* s2, float* s3) {
+// Bands p[b] into out[b]: their kernels differ only in the tables (the sun and the grid are the
+// same), so the first pass and the band-free part of the third run once per block for all of them.
+void vrte_float(std::span<const Kernel* const> p, const ViewRaysSoA& rays, std::span<const StokesSoA> out) {
   Stencils st;
-  for (std::size_t first = 0; first < n; first += kBlock) {
-    const std::size_t m = std::min(kBlock, n - first);
-    stencils(p, m, dx + first, dy + first, dz + first, st);
-    multiple_scattering(p.ms, m, st);
-    combine(p, m, dx + first, dy + first, dz + first, ux + first, uy + first, uz + first, st, s0 + first,
-            s1 + first, s2 + first, s3 + first);
+  const float *dx = rays.dx, *dy = rays.dy, *dz = rays.dz, *ux = rays.ux, *uy = rays.uy, *uz = rays.uz;
+  for (std::size_t first = 0; first < rays.count; first += kBlock) {
+    const std::size_t m = std::min(kBlock, rays.count - first);
+    stencils(*p[0], m, dx + first, dy + first, dz + first, st);
+    rotations(*p[0], m, dx + first, dy + first, dz + first, ux + first, uy + first, uz + first, st);
+    for (std::size_t b = 0; b < p.size(); ++b) {
+      table_reads(*p[b], m, st);
+      const StokesSoA& o = out[b];
+      combine(*p[b], m, dz + first, st, o.s0 + first, o.s1 + first, o.s2 + first, o.s3 + first);
+    }
   }
 }
 
@@ -347,7 +386,9 @@ void VrteSky::stokes(std::span<const ViewRay> rays, const Sun& sun, std::span<St
   detail::for_each_ray_block(rays, [&](const detail::RayBlock& b) {
     alignas(32) float s0[detail::RayBlock::kSize], s1[detail::RayBlock::kSize], s2[detail::RayBlock::kSize],
         s3[detail::RayBlock::kSize];
-    vrte_float(p->kernel, b.count, b.dx, b.dy, b.dz, b.ux, b.uy, b.uz, s0, s1, s2, s3);
+    const Kernel* k[] = {&p->kernel};
+    const StokesSoA planes[] = {{s0, s1, s2, s3}};
+    vrte_float(k, {b.count, b.dx, b.dy, b.dz, b.ux, b.uy, b.uz}, planes);
     StokesF* o = out.data() + b.first;
     for (std::size_t j = 0; j < b.count; ++j) o[j] = {s0[j], s1[j], s2[j], s3[j]};
   });
@@ -359,8 +400,32 @@ void VrteSky::stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSo
     for (float* o : {out.s0, out.s1, out.s2, out.s3}) std::fill(o, o + rays.count, 0.0f);
     return;
   }
-  vrte_float(p->kernel, rays.count, rays.dx, rays.dy, rays.dz, rays.ux, rays.uy, rays.uz, out.s0, out.s1, out.s2,
-             out.s3);
+  const Kernel* k[] = {&p->kernel};
+  vrte_float(k, rays, {&out, 1});
+}
+
+bool VrteSky::stokes_soa_bands(std::span<const SkyModel* const> skies, const ViewRaysSoA& rays, const Sun& sun,
+                               std::span<const StokesSoA> out) {
+  const std::size_t n = skies.size();
+  if (n < 2 || n > kMaxBands || out.size() != n) return false;
+  std::array<const VrteSky*, kMaxBands> v{};
+  for (std::size_t b = 0; b < n; ++b) {
+    v[b] = dynamic_cast<const VrteSky*>(skies[b]);
+    if (!v[b] || v[b]->table_->grid() != v[0]->table_->grid()) return false;
+  }
+  std::array<std::shared_ptr<const SunPlan>, kMaxBands> plans;
+  std::array<const Kernel*, kMaxBands> kernels{};
+  for (std::size_t b = 0; b < n; ++b) {
+    plans[b] = v[b]->plan(sun);
+    kernels[b] = &plans[b]->kernel;
+  }
+  if (!plans[0]->lit) {  // the same sun for every band
+    for (const StokesSoA& o : out)
+      for (float* c : {o.s0, o.s1, o.s2, o.s3}) std::fill(c, c + rays.count, 0.0f);
+    return true;
+  }
+  vrte_float(std::span(kernels).first(n), rays, out);
+  return true;
 }
 
 }  // namespace skypol::sky

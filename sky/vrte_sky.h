@@ -46,6 +46,15 @@ class VrteSky final : public SkyModel {
   void stokes_soa(const ViewRaysSoA& rays, const Sun& sun, const StokesSoA& out) const override;
   const vrte::VrteTable& table() const { return *table_; }
 
+  // A colour scene's bands at once: skies[i] into out[i], each bit for bit what its own stokes_soa
+  // writes, with what does not depend on the band (the view's stencils in μ and azimuth, the
+  // scattering angle and the nodes below it, the turn into the caller's basis) computed once for
+  // them all. Returns false, having written nothing, unless there are 2 to kMaxBands models, all
+  // of them VrteSky on tables of one grid, and as many outputs.
+  static constexpr std::size_t kMaxBands = 8;
+  static bool stokes_soa_bands(std::span<const SkyModel* const> skies, const ViewRaysSoA& rays, const Sun& sun,
+                               std::span<const StokesSoA> out);
+
   // The fine grids of the batch paths: azimuth nodes per half of [0, π] (tan(Δφ/2) and
   // cot(Δφ/2) uniform in [0, 1]) and μ nodes of the single-scattering factor (uniform in the
   // table's v).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <thread>
 
@@ -16,8 +17,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Mean and best sky-render time per frame of `skies` over the scene's first frames.
-std::pair<double, double> render_ms(const scene::Scene& s, const sky::BandSkies& skies, int frames) {
+struct RenderTimes {
+  double mean_ms = 0, best_ms = 0, cpu_ms = 0;
+};
+
+// Mean and best sky-render wall time per frame of `skies` over the scene's first frames, and the
+// mean CPU time (all threads).
+RenderTimes render_ms(const scene::Scene& s, const sky::BandSkies& skies, int frames) {
   auto cam = scene::build_camera(s.camera);
   render::RenderOptions ro;
   ro.spp = s.render.spp;
@@ -28,16 +34,18 @@ std::pair<double, double> render_ms(const scene::Scene& s, const sky::BandSkies&
   stack::Frame f = renderer.new_frame();
   std::vector<const sky::SkyModel*> models;
   for (const auto& m : skies.skies) models.push_back(m.get());
-  double sum = 0, best = 0;
+  double sum = 0, best = 0, cpu = 0;
   for (int i = 0; i < frames; ++i) {
     const scene::Truth truth = scene::make_truth(s, *cam, s.times[static_cast<std::size_t>(i) % s.times.size()]);
+    const std::clock_t c0 = std::clock();
     const auto t0 = Clock::now();
     renderer.render(models, truth.sun, f);
     const double ms = ms_since(t0);
+    cpu += 1e3 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     sum += ms;
     best = i == 0 ? ms : std::min(best, ms);
   }
-  return {sum / frames, best};
+  return {sum / frames, best, cpu / frames};
 }
 
 }  // namespace
@@ -74,8 +82,9 @@ VrteBenchFigures bench_vrte(const scene::Scene& scene_in, int frames, const std:
   b.warm_read_s = warm.build_seconds;
 
   const sky::BandSkies grey = scene::build_band_skies(single, {});
-  std::tie(b.single_render_ms, b.single_render_best_ms) = render_ms(single, grey, frames);
-  std::tie(b.vrte_render_ms, b.vrte_render_best_ms) = render_ms(vrte, warm, frames);
+  const RenderTimes st = render_ms(single, grey, frames), vt = render_ms(vrte, warm, frames);
+  b.single_render_ms = st.mean_ms, b.single_render_best_ms = st.best_ms, b.single_render_cpu_ms = st.cpu_ms;
+  b.vrte_render_ms = vt.mean_ms, b.vrte_render_best_ms = vt.best_ms, b.vrte_render_cpu_ms = vt.cpu_ms;
 
   const double n = static_cast<double>(vrte.times.size());
   const render::RenderReport rs = render::render_scene(single, (scratch / "single.exr").string(), {}, cache);

@@ -22,6 +22,9 @@ struct VrteBenchFigures {
   int frames = 0;
   double single_render_ms = 0, single_render_best_ms = 0;  // sky render per frame (rayleigh, same bands)
   double vrte_render_ms = 0, vrte_render_best_ms = 0;      // the same with the warm VRTE tables
+  // The same renders in the process's CPU time per frame (every thread's): what the machine's other
+  // work inflates far less than the wall time.
+  double single_render_cpu_ms = 0, vrte_render_cpu_ms = 0;
   double single_end_to_end_ms = 0, vrte_end_to_end_ms = 0;  // render + write per frame (render_scene)
   // The accuracy knob: the first band's table solved (not cached) at each asked-for streams value.
   std::vector<int> sweep_streams;

@@ -32,6 +32,18 @@ std::shared_ptr<const vrte::VrteTable> rayleigh_table(double tau, double rho, do
   return std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, albedo, opt));
 }
 
+// Molecules (τ 0.1) with a polarizing, forward-scattering aerosol: 24 Fourier terms, an aureole in
+// the exact single scattering.
+std::shared_ptr<const vrte::VrteTable> hazy_table() {
+  LayerOptics o;
+  o.tau_rayleigh = 0.1;
+  o.depolarization = 0.0279;
+  o.tau_aerosol = 0.2;
+  o.aerosol_ssa = 0.95;
+  o.aerosol = vrte::synthetic_aerosol(0.7, 200, 0.2, 0.05);
+  return std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {}));
+}
+
 // The local-meridian basis: e0 towards the zenith along the meridian (North at the zenith).
 Eigen::Vector3d meridian_e0(const Eigen::Vector3d& d) {
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ() - d.z() * d;
@@ -230,14 +242,7 @@ TEST_CASE("The batch path (one plan per sun, float) agrees with the scalar path 
           "[vrte][sky]") {
   // Molecules alone (3 Fourier terms) and molecules with a polarizing, forward-scattering aerosol
   // (24 terms, an aureole in the exact single scattering), for suns from the horizon to the zenith.
-  LayerOptics o;
-  o.tau_rayleigh = 0.1;
-  o.depolarization = 0.0279;
-  const VrteSky clear(std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {})));
-  o.tau_aerosol = 0.2;
-  o.aerosol_ssa = 0.95;
-  o.aerosol = vrte::synthetic_aerosol(0.7, 200, 0.2, 0.05);
-  const VrteSky hazy(std::make_shared<const vrte::VrteTable>(vrte::VrteTable::build(o, 0.1, {})));
+  const VrteSky clear(rayleigh_table(0.1, 0.0279, 0.1)), hazy(hazy_table());
   PathDifference worst;
   for (const VrteSky* sky : {&clear, &hazy})
     for (double el : {1.0, 5.0, 35.0, 70.0, 90.0}) {
@@ -302,6 +307,48 @@ TEST_CASE("The structure-of-arrays path gives the ViewRay path's floats", "[vrte
     CHECK(s2[i] == batch[i].s2);
     CHECK(s3[i] == batch[i].s3);
   }
+}
+
+TEST_CASE("Bands evaluated together give each band's own floats; other model sets are declined untouched",
+          "[vrte][sky]") {
+  // Three bands as a colour scene has them: molecules at two depths and molecules with aerosol
+  // (24 Fourier terms against 3), all on the default grid.
+  const VrteSky red(rayleigh_table(0.05, 0.0279, 0.1)), green(rayleigh_table(0.1, 0.0279, 0.1)), blue(hazy_table());
+  const SkyModel* bands[] = {&red, &green, &blue};
+  const Sun sun = sun_at(200.0, 35.0);
+  const std::vector<ViewRay> rays = sample_rays(sun, 500);
+  const std::size_t n = rays.size();
+  std::vector<float> in(6 * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      in[static_cast<std::size_t>(c) * n + i] = rays[i].d[c];
+      in[static_cast<std::size_t>(3 + c) * n + i] = rays[i].e0[c];
+    }
+  const ViewRaysSoA soa{n, &in[0], &in[n], &in[2 * n], &in[3 * n], &in[4 * n], &in[5 * n]};
+  std::vector<float> together(12 * n, -7.0f), alone(12 * n, -7.0f);
+  auto planes = [n](std::vector<float>& v, std::size_t b) {
+    return StokesSoA{&v[4 * b * n], &v[(4 * b + 1) * n], &v[(4 * b + 2) * n], &v[(4 * b + 3) * n]};
+  };
+  const StokesSoA out[] = {planes(together, 0), planes(together, 1), planes(together, 2)};
+  for (const Sun& s : {sun, sun_at(40.0, 80.0), sun_at(0.0, -2.0)}) {
+    REQUIRE(VrteSky::stokes_soa_bands(bands, soa, s, out));
+    for (std::size_t b = 0; b < 3; ++b) bands[b]->stokes_soa(soa, s, planes(alone, b));
+    CHECK(together == alone);
+  }
+  CHECK(std::all_of(together.begin(), together.end(), [](float x) { return x == 0.0f; }));  // the last sun: night
+  // Declined, nothing written: one band, a model that is not VrteSky, a table on another grid,
+  // too few outputs.
+  std::fill(together.begin(), together.end(), -7.0f);
+  const RayleighSky grey;
+  const VrteSky coarse(rayleigh_table(0.1, 0.0279, 0.1, 17));
+  const SkyModel* one[] = {&red};
+  const SkyModel* mixed[] = {&red, &grey};
+  const SkyModel* grids[] = {&red, &coarse};
+  CHECK_FALSE(VrteSky::stokes_soa_bands(one, soa, sun, std::span(out).first(1)));
+  CHECK_FALSE(VrteSky::stokes_soa_bands(mixed, soa, sun, std::span(out).first(2)));
+  CHECK_FALSE(VrteSky::stokes_soa_bands(grids, soa, sun, std::span(out).first(2)));
+  CHECK_FALSE(VrteSky::stokes_soa_bands(bands, soa, sun, std::span(out).first(2)));
+  CHECK(std::all_of(together.begin(), together.end(), [](float x) { return x == -7.0f; }));
 }
 
 TEST_CASE("Aerosol: a bright aureole round the sun and less polarization 90 degrees from it", "[vrte][sky]") {
