@@ -11,6 +11,16 @@
 // camera frame from the sensor AoLP through the camera's transport (meridional: E = cos a·e0 +
 // sin a·d×e0 with e0 = camera::meridional_e0(d); projected: E ⟂ d with the sensor-plane angle a);
 // the sign with the sun above the horizon.
+// The sensor's polarizers are taken as possibly off their nominal angles: a DoFP sensor whose four
+// micro-polarizers sit ε_k off reads, to first order, a + c0 + c1·cos 4a + c2·sin 4a for a sensor
+// AoLP a (c0 the mean of the ε_k, a common turn of every E-vector; the 4a terms from their
+// differences), the same at every pixel of every frame, and an E-vector turned about its ray no
+// longer ⟂ the sun: a degree of c0 moves the plain fit's sun by about as much. So the fit models
+// it: s and c minimise Σ w·(s·(E − (g·c)·∂E/∂a))², g = (1, cos 4a, sin 4a) (Gauss–Newton from the
+// plain eigenvector, then the eigenvector of the corrected E-vectors). A sky mirror-symmetric about
+// the sun's vertical plane, sampled symmetrically, has ∂/∂c0 = 0 at c = 0 (s·E is even under the
+// mirror, s·∂E/∂a odd), so the model costs such a sky no bias; a fitted term beyond 5° is no
+// sensor's, and the fit then keeps the E-vectors as read.
 // Pole, PoleFromSun::circle (no ephemeris, no site): the sun turns about the pole at declination
 // δ, s_t·p = sin δ_t; p minimises Σ (s_t·p − a − b·τ_t)² (b, the declination drift, only with the
 // linear detrend, automatic for windows ≥ 7 h), i.e. the smallest eigenvector of Sᵀ H S with H the
@@ -109,6 +119,11 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const FrameEVectors& ev, double min_dolp,
                                              double* quality = nullptr, bool robust = true);
+// The same where `sky` says only which pixels to read (a mask of a prepared sky, without rays of
+// its own): `rays` are the prepared sky's.
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<Eigen::Vector3f>& rays,
+                                             const std::vector<float>& dolp, const FrameEVectors& ev,
+                                             double min_dolp, double* quality = nullptr, bool robust = true);
 
 // The sun in one frame from a Rayleigh fit of its DoLP, started at `start`; nullopt if the fit
 // fails. pmax receives the fitted Pmax, rms the DoLP residual.
