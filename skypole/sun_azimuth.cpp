@@ -315,7 +315,8 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
     // A view whose sky has pixels the whole stack's lacks has no cached E-vectors: made here.
     std::optional<FrameEVectors> own;
     if (!found.e_vectors[t])
-      own = frame_e_vectors(sky, sky.dolp[t], *aolp[t], view.stack().camera->transport(), params.min_dolp);
+      own = frame_e_vectors(sky, sky.dolp[t], *aolp[t], view.stack().camera->transport(), params.min_dolp,
+                            fits_polarizer(*view.frames()[t], params.input.polarizer_model));
     const FrameEVectors& ev = own ? *own : *found.e_vectors[t];
     suns[t] = symmetric_sun(sky, sky.dolp[t], ev, params.min_dolp, params.input.sky_mask, found.suns_camera[t]);
   });

@@ -211,10 +211,10 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
 
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
-                                             const camera::Camera& camera, double min_dolp,
+                                             const camera::Camera& camera, double min_dolp, bool polarizer_model,
                                              double* quality, bool robust) {
-  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp), min_dolp, quality,
-                       robust);
+  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp, polarizer_model),
+                       min_dolp, quality, robust);
 }
 
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
@@ -237,30 +237,44 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     at.push_back(static_cast<std::uint32_t>(k));
   }
   if (at.size() < 10) return std::nullopt;
-  // Per E-vector read: its weight, its turn ∂e/∂a and the polarizer model's terms
-  // g = (1, cos 4a, sin 4a) at its sensor AoLP a (the sensor reads a + g·c, sun_vector.h); floats,
-  // as the AoLP's own precision is.
+  const auto w_at = [&](std::size_t m) {
+    const double p = dolp[ev.pixel[at[m]]];
+    return p * p;
+  };
+  // With the polarizer model, per E-vector read: its turn ∂e/∂a and (cos 2a, sin 2a) of its sensor
+  // AoLP a; floats, as the AoLP's own precision is.
+  const bool model = ev.polarizer_model;
   struct Read {
     Eigen::Vector3f turn;
-    float cos4, sin4, w;
+    float cos2, sin2;
   };
-  std::vector<Read> px(at.size());
+  std::vector<Read> px(model ? at.size() : 0);
   for (std::size_t m = 0; m < px.size(); ++m) {
     const std::size_t k = at[m], i = ev.pixel[k];
-    const double p = dolp[i];
     const EVectorTurn t = e_vector_turn(to_double(rays[i]), ev.e[k], ev.transport);
-    const double c2 = t.cos_a * t.cos_a - t.sin_a * t.sin_a, s2 = 2 * t.cos_a * t.sin_a;
-    px[m] = {t.turn.cast<float>(), static_cast<float>(c2 * c2 - s2 * s2), static_cast<float>(2 * c2 * s2),
-             static_cast<float>(p * p)};
+    px[m] = {t.turn.cast<float>(), static_cast<float>(t.cos_a * t.cos_a - t.sin_a * t.sin_a),
+             static_cast<float>(2 * t.cos_a * t.sin_a)};
   }
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();  // the sensor's AoLP error model (radians)
-  const auto error_at = [&](std::size_t m) {
-    return c(0) + c(1) * static_cast<double>(px[m].cos4) + c(2) * static_cast<double>(px[m].sin4);
+  // The sensor's AoLP error (radians) at each E-vector read, from the mosaic's model c (sun_vector.h):
+  // the measured (cos 2a', sin 2a') ∝ (cos(2a − A), ρ·sin(2a − B)) of the sky's a, so the sky's 2a
+  // is the angle of (cos B·cos 2a' − sin A·sin 2a'/ρ, sin B·cos 2a' + cos A·sin 2a'/ρ), with
+  // A = 2(c1 − c0), B = −2(c0 + c1), ρ = 1 + 4·c2 (to first order, a' = a + c0 + c1·cos 4a' + c2·sin 4a').
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  std::vector<float> error(px.size(), 0.0f);
+  const auto update_error = [&]() {
+    const double ca = std::cos(2 * (c(1) - c(0))), sa = std::sin(2 * (c(1) - c(0)));
+    const double cb = std::cos(-2 * (c(0) + c(1))), sb = std::sin(-2 * (c(0) + c(1)));
+    const double inv_rho = 1 / (1 + 4 * c(2));
+    for (std::size_t m = 0; m < px.size(); ++m) {
+      const double c2 = px[m].cos2, s2 = px[m].sin2;
+      const double x = cb * c2 - sa * s2 * inv_rho, y = sb * c2 + ca * s2 * inv_rho;
+      error[m] = static_cast<float>(-0.5 * std::atan2(c2 * y - s2 * x, c2 * x + s2 * y));
+    }
   };
-  // The E-vector as the sky has it: the sensor's error taken out (to first order in c).
+  // The E-vector as the sky has it: the sensor's error taken out (to first order in the error).
   const auto e_at = [&](std::size_t m) -> Eigen::Vector3d {
     const Eigen::Vector3d& e = ev.e[at[m]];
-    return Eigen::Vector3d(e - error_at(m) * px[m].turn.cast<double>());
+    return model ? Eigen::Vector3d(e - static_cast<double>(error[m]) * px[m].turn.cast<double>()) : e;
   };
   std::vector<std::uint8_t> use(at.size(), 1);
   Eigen::Vector3d s;
@@ -274,7 +288,7 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     for (std::size_t k = 0; k < at.size(); ++k)
       if (use[k]) {
         const Eigen::Vector3d e = e_at(k);
-        const double w = static_cast<double>(px[k].w), we0 = w * e(0), we1 = w * e(1), we2 = w * e(2);
+        const double w = w_at(k), we0 = w * e(0), we1 = w * e(1), we2 = w * e(2);
         c00 += we0 * e(0), c10 += we1 * e(0), c20 += we2 * e(0);
         c01 += we0 * e(1), c11 += we1 * e(1), c21 += we2 * e(1);
         c02 += we0 * e(2), c12 += we1 * e(2), c22 += we2 * e(2);
@@ -288,7 +302,9 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     lambda = eig.eigenvalues();
     return true;
   };
-  // One Gauss–Newton step on the sun's two tangent angles and c, minimising Σ w·(s·e(c))².
+  // One Gauss–Newton step on the sun's two tangent angles and c, minimising Σ w·(s·e(c))², with the
+  // error's derivative in c taken to first order, (1, cos 4a', sin 4a'): at c = 0 it is exact, and
+  // the steps converge on the exact model's c.
   const auto polarizer_step = [&]() {
     const Eigen::Vector3d u1 = s.unitOrthogonal(), u2 = s.cross(u1);
     double a[15] = {}, b[5] = {};  // JᵀWJ's lower triangle and JᵀWr, in locals (as above)
@@ -297,9 +313,9 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
         const Read& rd = px[k];
         const Eigen::Vector3d e = e_at(k);
         const double st = -s.dot(rd.turn.cast<double>());
-        const double j[5] = {e.dot(u1), e.dot(u2), st, st * static_cast<double>(rd.cos4),
-                             st * static_cast<double>(rd.sin4)};
-        const double w = static_cast<double>(rd.w), wr = w * s.dot(e);
+        const double c2 = rd.cos2, s2 = rd.sin2;
+        const double j[5] = {e.dot(u1), e.dot(u2), st, st * (c2 * c2 - s2 * s2), st * (2 * c2 * s2)};
+        const double w = w_at(k), wr = w * s.dot(e);
         int n = 0;
         for (int p = 0; p < 5; ++p) {
           const double wj = w * j[p];
@@ -320,20 +336,24 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     c += step.tail<3>();
     // A model beyond kMaxPolarizerErrorRad is a sky it does not describe, not a sensor's error.
     if (!c.allFinite() || c.cwiseAbs().maxCoeff() > kMaxPolarizerErrorRad) c.setZero();
+    update_error();
   };
   // Fit, then refit without the E-vectors farther out of the plane ⟂ s than 3 robust σ (at least
   // kMinCutDeg): pixels whose AoLP no sun explains (cloud, glare, a neutral point) stop pulling.
-  // The polarizer model starts at c = 0 from the eigenvector and takes 3 steps, then one more per
-  // refit from where the last ended; the sun is the eigenvector of the corrected E-vectors.
+  // Without the polarizer model each round's sun is the eigenvector. With it, the model starts at
+  // c = 0 from the eigenvector and takes 3 steps, then one more per refit from where the last
+  // ended; the sun is the eigenvector of the corrected E-vectors.
   constexpr double kMinCutDeg = 0.5;
   const int rounds = robust ? 3 : 1;
   if (!smallest_direction()) return std::nullopt;
   for (int round = 0; round < rounds; ++round) {
-    for (int it = 0; it < (round == 0 ? 3 : 1); ++it) polarizer_step();
-    if (round == rounds - 1) {
-      if (!smallest_direction()) return std::nullopt;
-      break;
+    if (model) {
+      for (int it = 0; it < (round == 0 ? 3 : 1); ++it) polarizer_step();
+      if (round == rounds - 1 && !smallest_direction()) return std::nullopt;
+    } else if (round > 0 && !smallest_direction()) {
+      return std::nullopt;
     }
+    if (round == rounds - 1) break;
     std::vector<double> r(at.size());
     for (std::size_t k = 0; k < at.size(); ++k) r[k] = std::abs(e_at(k).dot(s));
     const double cut = std::max(std::sin(kMinCutDeg * kRadPerDeg), 3 * 1.4826 * nth_smallest(r, r.size() / 2));
