@@ -28,7 +28,7 @@ constexpr EnumNames<PolarizerModel, 3> kPolarizerModelNames{{{PolarizerModel::fr
                                                               {PolarizerModel::never, "never"}}};
 
 PolarizerModel parse_polarizer_model(std::string_view name) {
-  return enum_from_name(kPolarizerModelNames, name, "polarizer model");
+  return enum_from_name(kPolarizerModelNames, name, "--polarizer-model");
 }
 std::string_view polarizer_model_name(PolarizerModel m) { return enum_name(kPolarizerModelNames, m); }
 

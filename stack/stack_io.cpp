@@ -703,6 +703,11 @@ std::string describe_stack(const std::string& path) {
       }
       os << line;
     }
+    if (const auto* a = h0.findTypedAttribute<Imf::StringAttribute>(kPolarizerAngles)) {
+      os << "polarizer angles: " << a->value()
+         << (a->value() == "nominal" ? " (the AoLP assumes them: the estimators fit the polarizers' error)\n"
+                                     : " (the AoLP assumes the polarizers' own)\n");
+    }
     if (!known.truth) {
       // A capture: times and, when given, the site and the sun; the heading is what it is for.
       os << "truth: unknown (an imported capture: heading and pole are for the estimators to find"
