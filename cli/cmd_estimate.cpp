@@ -14,6 +14,7 @@ void add_estimate(CLI::App& app) {
     skypole::EstimateRequest request;
     std::string hemisphere = "automatic";
     std::string site = "stack";
+    std::string polarizer_model = "stack";
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
@@ -25,6 +26,7 @@ void add_estimate(CLI::App& app) {
   est->add_option("--band", a->request.input.band, "Band whose DoLP is used (default: B if present, else the first)");
   est->add_option("--hemisphere", a->hemisphere, "automatic, north or south (the observer's, if known)");
   est->add_option("--site", a->site, skypole::kSiteOptionHelp);
+  est->add_option("--polarizer-model", a->polarizer_model, skypole::kPolarizerModelHelp);
   est->add_option("--min-elevation", a->request.input.min_elevation_deg,
                   "Pixels lower than this (degrees, level frame) are ground and not used");
   est->add_option("--intermediates", a->request.intermediates,
@@ -44,6 +46,7 @@ void add_estimate(CLI::App& app) {
   est->callback([a] {
     a->request.input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
     a->request.input.use_site = skypole::parse_site_use(a->site);
+    a->request.input.polarizer_model = skypole::parse_polarizer_model(a->polarizer_model);
     // Methods done, their rate and the time left, redrawn while one runs (terminal only).
     Ticker ticker(make_progress(a->quiet, "methods"));
     a->request.progress = [&ticker](std::size_t done, std::size_t total) { ticker(done, total); };

@@ -78,6 +78,7 @@ void add_evaluate(CLI::App& app) {
     skypole::InputOptions input;
     std::string hemisphere = "automatic";
     std::string site = "stack";
+    std::string polarizer_model = "stack";
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
@@ -91,6 +92,7 @@ void add_evaluate(CLI::App& app) {
   ev->add_option("--band", a->input.band, "Band whose DoLP is used (default: B if present, else the first)");
   ev->add_option("--hemisphere", a->hemisphere, "automatic, north or south");
   ev->add_option("--site", a->site, skypole::kSiteOptionHelp);
+  ev->add_option("--polarizer-model", a->polarizer_model, skypole::kPolarizerModelHelp);
   ev->add_option("--max-uncertainty", a->input.max_uncertainty_deg,
                   "Largest 95 % cone (degrees) an answer may have; a method whose stated uncertainty is "
                   "wider declines and says so (default: no bound)");
@@ -98,6 +100,7 @@ void add_evaluate(CLI::App& app) {
   ev->callback([a] {
     a->input.hemisphere = skypole::parse_hemisphere(a->hemisphere);
     a->input.use_site = skypole::parse_site_use(a->site);
+    a->input.polarizer_model = skypole::parse_polarizer_model(a->polarizer_model);
     const std::vector<std::string> methods = skypole::expand_methods(a->methods);
     const std::vector<std::string> stacks = find_stacks(a->inputs);
     std::vector<skypole::EvaluationRow> rows;

@@ -17,9 +17,11 @@ namespace {
 
 py::dict estimate(const PyStack& s, const std::string& method, const std::string& band, const std::string& hemisphere,
                   double min_elevation_deg, double heading_undefined_within_deg,
-                  const std::optional<std::pair<double, double>>& attitude, const std::string& site) {
+                  const std::optional<std::pair<double, double>>& attitude, const std::string& site,
+                  const std::string& polarizer_model) {
   skypole::InputOptions in;
   in.use_site = skypole::parse_site_use(site);
+  in.polarizer_model = skypole::parse_polarizer_model(polarizer_model);
   in.band = band;
   in.hemisphere = skypole::parse_hemisphere(hemisphere);
   in.min_elevation_deg = min_elevation_deg;
@@ -68,6 +70,7 @@ void bind_skypole(py::module_& m) {
   m.def("estimate", &estimate, py::arg("stack"), py::arg("method"), py::arg("band") = "",
         py::arg("hemisphere") = "automatic", py::arg("min_elevation_deg") = 0.0,
         py::arg("heading_undefined_within_deg") = 0.5, py::arg("attitude") = py::none(), py::arg("site") = "stack",
+        py::arg("polarizer_model") = "stack",
         "Run one estimator on a StackHandle: dict of every PoleEstimate field plus 'score' (None if invalid)");
   m.def("plot_estimate", &plot_estimate, py::arg("stack"), py::arg("estimates"), py::arg("path"), py::arg("band") = "",
         py::arg("min_elevation_deg") = 0.0, py::arg("frame") = py::none(),

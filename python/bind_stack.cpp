@@ -71,6 +71,7 @@ void write_file(const PyStack& s, const std::string& path, std::vector<std::stri
   header.scene_text = st.scene_text;
   header.sky_model = s.sky_model;
   header.exposures = std::all_of(st.frames.begin(), st.frames.end(), [](const stack::Frame& f) { return f.exposure_us.has_value(); });
+  header.polarizer_angles = st.frames.front().polarizer_angles;  // one sensor per stack
   stack::WriteOptions wo;
   wo.half = half;
   wo.compression = compression;

@@ -175,6 +175,7 @@ RenderReport render_scene(const scene::Scene& scene, const std::string& out_path
   header.scene_text = scene.text;
   header.sky_model = band_skies.front()->name();
   header.exposures = scene.sensor.has_value();
+  if (scene.sensor) header.polarizer_angles = polarizer_angles(*scene.sensor);
   // The meter's region, one camera for the whole stack: computed only for auto exposure.
   const std::vector<std::uint8_t> sky =
       scene.sensor && scene.sensor->auto_exposure ? sky_pixels(*cam) : std::vector<std::uint8_t>{};

@@ -109,6 +109,13 @@ double meter_exposure_us(const scene::SensorSpec& sensor, const std::vector<std:
 
 std::size_t frames_metered() { return g_frames_metered.load(); }
 
+stack::PolarizerAngles polarizer_angles(const scene::SensorSpec& sensor) {
+  const auto& e = sensor.dofp.angle_error_deg;
+  const bool at_nominal = std::all_of(e.begin(), e.end(), [](double a) { return a == 0; });
+  return sensor.demosaic == camera::Demosaic::calibrated || at_nominal ? stack::PolarizerAngles::calibrated
+                                                                        : stack::PolarizerAngles::nominal;
+}
+
 void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
                   stack::Frame& frame, bool keep_raw, std::span<const std::uint8_t> sky) {
   if (frame.width != sensor.dofp.width || frame.height != sensor.dofp.height) {
@@ -123,6 +130,7 @@ void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string
   }
   const camera::DofpSensor& d = sensor.auto_exposure ? metered : sensor.dofp;
   frame.exposure_us = d.exposure_us;
+  frame.polarizer_angles = polarizer_angles(sensor);
   frame.zero_outside = 0;  // noise and the eroded mask change pixels outside the circle too
   // The bilinear demosaic reads a pixel's neighbours up to camera::demosaic_reach away (1 on a mono
   // sensor, 3 on a colour one): a pixel that near one that sees no sky mixes in darkness, so it is

@@ -42,6 +42,11 @@ std::vector<std::string> kept_channels(std::vector<std::string> rendered, const 
 void apply_sensor(const scene::SensorSpec& sensor, const std::vector<std::string>& bands, std::uint64_t frame_index,
                   stack::Frame& frame, bool keep_raw = false, std::span<const std::uint8_t> sky = {});
 
+// What the sensor's AoLP assumes of its polarizers (the frame's polarizer_angles, which
+// apply_sensor sets): calibrated when the demosaic inverts the sensor's own analyzer or the
+// polarizers sit at their nominal angles (every angle_error_deg 0), nominal otherwise.
+stack::PolarizerAngles polarizer_angles(const scene::SensorSpec& sensor);
+
 // 1 for each pixel whose centre's ray looks above the horizon, 0 for the ground and outside the
 // image circle: the meter's region for this camera (the same for every frame of a stack).
 std::vector<std::uint8_t> sky_pixels(const camera::Camera& camera);

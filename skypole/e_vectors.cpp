@@ -15,10 +15,34 @@ std::optional<Eigen::Vector3d> e_vector(const Eigen::Vector3d& d, double a, came
   return Eigen::Vector3d(e.normalized());
 }
 
+EVectorTurn e_vector_turn(const Eigen::Vector3d& d, const Eigen::Vector3d& e, camera::Transport t) {
+  EVectorTurn out;
+  if (t == camera::Transport::meridional) {
+    // e = cos a·e0 + sin a·d×e0, so ∂e/∂a = −sin a·e0 + cos a·d×e0 = d × e.
+    const Eigen::Vector3d e0 = camera::meridional_e0(d);
+    out.cos_a = e.dot(e0);
+    out.sin_a = e.dot(d.cross(e0));
+    out.turn = d.cross(e);
+    return out;
+  }
+  // e = u/|u| with u = (cos a, sin a, −(cos a·d_x + sin a·d_y)/d_z): the sensor angle is e's in the
+  // sensor plane, and ∂e/∂a is ∂u/∂a without its part along e, over |u|.
+  const double h = std::hypot(e.x(), e.y());
+  out.cos_a = e.x() / h;
+  out.sin_a = e.y() / h;
+  const double ca = out.cos_a, sa = out.sin_a;
+  const Eigen::Vector3d u(ca, sa, -(ca * d.x() + sa * d.y()) / d.z());
+  const Eigen::Vector3d du(-sa, ca, -(-sa * d.x() + ca * d.y()) / d.z());
+  out.turn = (du - e * e.dot(du)) / u.norm();
+  return out;
+}
+
 FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& dolp, const std::vector<float>& aolp,
-                              camera::Transport transport, double min_dolp) {
+                              camera::Transport transport, double min_dolp, bool polarizer_model) {
   FrameEVectors out;
   out.min_dolp = min_dolp;
+  out.transport = transport;
+  out.polarizer_model = polarizer_model;
   // Counted first and reserved exactly: a day's frames hold some thirty bytes per sky pixel each,
   // and grown by push_back the vectors would hold up to twice that.
   const auto kept = [&](std::size_t i) { return sky.valid[i] && static_cast<double>(dolp[i]) >= min_dolp; };

@@ -21,17 +21,32 @@ namespace skypol::skypole {
 // transport with d ⟂ the optical axis).
 std::optional<Eigen::Vector3d> e_vector(const Eigen::Vector3d& d_cam, double aolp, camera::Transport t);
 
+// A pixel's sensor AoLP and how its E-vector turns with it, from the unit E-vector `e` (e_vector's)
+// of a pixel looking along unit d_cam: (cos a, sin a) of the sensor angle a (mod π) that gives e,
+// and `turn` = ∂e/∂a (⟂ e and d_cam; for meridional transport d_cam × e). A sensor whose
+// polarizers are off their nominal angles reads each AoLP off by an amount that depends on the
+// AoLP itself (sun_vector.h), which the AoLP sun fit models with these.
+struct EVectorTurn {
+  double cos_a = 1, sin_a = 0;
+  Eigen::Vector3d turn = Eigen::Vector3d::Zero();
+};
+EVectorTurn e_vector_turn(const Eigen::Vector3d& d_cam, const Eigen::Vector3d& e, camera::Transport t);
+
 // One frame's e_vector at each valid pixel of a sky whose DoLP is at least min_dolp, in pixel
 // order. A fit on a sky whose valid pixels are among these (the same sky with pixels masked) reads
 // its own by skipping the others.
 struct FrameEVectors {
   enum : std::uint8_t { kDefined = 1, kFiniteAolp = 2 };
   double min_dolp = 0;
+  camera::Transport transport = camera::Transport::meridional;  // the camera's, which made e
+  // The AoLP sun fits on these model the sensor's polarizer angle errors (sun_vector.h;
+  // fits_polarizer, estimate.h).
+  bool polarizer_model = false;
   std::vector<std::uint32_t> pixel;  // ascending
   std::vector<Eigen::Vector3d> e;    // e_vector there (zero where undefined)
   std::vector<std::uint8_t> flags;   // kDefined: e_vector gave one; kFiniteAolp: the AoLP is finite
 };
 FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& dolp, const std::vector<float>& aolp,
-                              camera::Transport transport, double min_dolp);
+                              camera::Transport transport, double min_dolp, bool polarizer_model);
 
 }  // namespace skypol::skypole

@@ -23,6 +23,20 @@ Hemisphere parse_hemisphere(std::string_view name) {
 }
 std::string_view hemisphere_name(Hemisphere h) { return enum_name(kHemisphereNames, h); }
 
+constexpr EnumNames<PolarizerModel, 3> kPolarizerModelNames{{{PolarizerModel::from_stack, "stack"},
+                                                              {PolarizerModel::always, "always"},
+                                                              {PolarizerModel::never, "never"}}};
+
+PolarizerModel parse_polarizer_model(std::string_view name) {
+  return enum_from_name(kPolarizerModelNames, name, "--polarizer-model");
+}
+std::string_view polarizer_model_name(PolarizerModel m) { return enum_name(kPolarizerModelNames, m); }
+
+bool fits_polarizer(const stack::Frame& frame, PolarizerModel model) {
+  return model == PolarizerModel::always ||
+         (model == PolarizerModel::from_stack && frame.polarizer_angles == stack::PolarizerAngles::nominal);
+}
+
 double wrap180(double deg) {
   double a = std::fmod(deg, 360.0);
   if (a > 180.0) a -= 360.0;

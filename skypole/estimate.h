@@ -51,6 +51,19 @@ enum class Hemisphere { automatic, north, south };
 Hemisphere parse_hemisphere(std::string_view name);
 std::string_view hemisphere_name(Hemisphere h);
 
+// Whether the AoLP sun fits model the sensor's polarizer angle errors with the sun (sun_vector.h):
+// from_stack, on the frames whose AoLP assumed the polarizers' nominal angles
+// (stack::PolarizerAngles::nominal: an uncalibrated pipeline); always; never.
+enum class PolarizerModel { from_stack, always, never };
+// "stack" | "always" | "never"; throws std::invalid_argument listing the legal names.
+PolarizerModel parse_polarizer_model(std::string_view name);
+std::string_view polarizer_model_name(PolarizerModel m);
+// Whether the fits model the polarizers on this frame.
+bool fits_polarizer(const stack::Frame& frame, PolarizerModel model);
+inline constexpr const char* kPolarizerModelHelp =
+    "Fit the sensor's polarizer angle errors with each frame's sun: stack (where the stack says its AoLP assumed "
+    "the polarizers' nominal angles, skypol:polarizerAngles), always, or never";
+
 // The gravity-referenced part of the orientation (camera/orientation.h), degrees.
 struct Attitude {
   double tilt_deg = 0;
@@ -86,6 +99,8 @@ struct InputOptions {
   // (`--site unknown`): a method that needs them declines and auto is site-free (site_usable,
   // method_registry.h). Scoring against the truth is not affected.
   bool use_site = true;
+  // The sensor's polarizer angle errors in the AoLP sun fits (`--polarizer-model`).
+  PolarizerModel polarizer_model = PolarizerModel::from_stack;
 };
 
 struct PoleEstimate {

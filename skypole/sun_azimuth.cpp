@@ -197,7 +197,7 @@ std::optional<Eigen::Vector3d> symmetric_sun(const SkyImages& sky, const std::ve
       }
     if (kept < 50) return std::nullopt;
     half.valid_count = kept;
-    const auto refit = sun_from_aolp(half, dolp, ev, min_dolp, nullptr, robust);
+    const auto refit = sun_from_aolp(half, sky.ray_camera, dolp, ev, min_dolp, nullptr, robust);
     if (!refit) return std::nullopt;
     sun = *refit;
   }
@@ -315,7 +315,8 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
     // A view whose sky has pixels the whole stack's lacks has no cached E-vectors: made here.
     std::optional<FrameEVectors> own;
     if (!found.e_vectors[t])
-      own = frame_e_vectors(sky, sky.dolp[t], *aolp[t], view.stack().camera->transport(), params.min_dolp);
+      own = frame_e_vectors(sky, sky.dolp[t], *aolp[t], view.stack().camera->transport(), params.min_dolp,
+                            fits_polarizer(*view.frames()[t], params.input.polarizer_model));
     const FrameEVectors& ev = own ? *own : *found.e_vectors[t];
     suns[t] = symmetric_sun(sky, sky.dolp[t], ev, params.min_dolp, params.input.sky_mask, found.suns_camera[t]);
   });

@@ -20,6 +20,11 @@
 
 namespace skypol::skypole {
 namespace {
+
+// A fitted polarizer model beyond this (any term) is not a sensor's error but a sky the model
+// does not describe: the fit keeps the E-vectors as read.
+constexpr double kMaxPolarizerErrorRad = 5 * kRadPerDeg;
+
 }  // namespace
 
 constexpr EnumNames<PoleFromSun, 2> kPoleFromSunNames{
@@ -206,15 +211,21 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
 
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
-                                             const camera::Camera& camera, double min_dolp,
+                                             const camera::Camera& camera, double min_dolp, bool polarizer_model,
                                              double* quality, bool robust) {
-  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp), min_dolp, quality,
-                       robust);
+  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp, polarizer_model),
+                       min_dolp, quality, robust);
 }
 
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const FrameEVectors& ev, double min_dolp, double* quality,
                                              bool robust) {
+  return sun_from_aolp(sky, sky.ray_camera, dolp, ev, min_dolp, quality, robust);
+}
+
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<Eigen::Vector3f>& rays,
+                                             const std::vector<float>& dolp, const FrameEVectors& ev,
+                                             double min_dolp, double* quality, bool robust) {
   // The E-vectors read: those of the sky's valid pixels, in pixel order, weighted by DoLP².
   std::vector<std::uint32_t> at;  // indices into ev
   for (std::size_t k = 0; k < ev.pixel.size(); ++k) {
@@ -226,38 +237,123 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     at.push_back(static_cast<std::uint32_t>(k));
   }
   if (at.size() < 10) return std::nullopt;
-  const auto e_at = [&](std::size_t m) -> const Eigen::Vector3d& { return ev.e[at[m]]; };
   const auto w_at = [&](std::size_t m) {
     const double p = dolp[ev.pixel[at[m]]];
     return p * p;
   };
-  // Fit, then refit without the E-vectors farther out of the plane ⟂ s than 3 robust σ (at least
-  // kMinCutDeg): pixels whose AoLP no sun explains (cloud, glare, a neutral point) stop pulling.
-  constexpr double kMinCutDeg = 0.5;
+  // With the polarizer model, per E-vector read: its turn ∂e/∂a and (cos 2a, sin 2a) of its sensor
+  // AoLP a; floats, as the AoLP's own precision is.
+  const bool model = ev.polarizer_model;
+  struct Read {
+    Eigen::Vector3f turn;
+    float cos2, sin2;
+  };
+  std::vector<Read> px(model ? at.size() : 0);
+  for (std::size_t m = 0; m < px.size(); ++m) {
+    const std::size_t k = at[m], i = ev.pixel[k];
+    const EVectorTurn t = e_vector_turn(to_double(rays[i]), ev.e[k], ev.transport);
+    px[m] = {t.turn.cast<float>(), static_cast<float>(t.cos_a * t.cos_a - t.sin_a * t.sin_a),
+             static_cast<float>(2 * t.cos_a * t.sin_a)};
+  }
+  // The sensor's AoLP error (radians) at each E-vector read, from the mosaic's model c (sun_vector.h):
+  // the measured (cos 2a', sin 2a') ∝ (cos(2a − A), ρ·sin(2a − B)) of the sky's a, so the sky's 2a
+  // is the angle of (cos B·cos 2a' − sin A·sin 2a'/ρ, sin B·cos 2a' + cos A·sin 2a'/ρ), with
+  // A = 2(c1 − c0), B = −2(c0 + c1), ρ = 1 + 4·c2 (to first order, a' = a + c0 + c1·cos 4a' + c2·sin 4a').
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  std::vector<float> error(px.size(), 0.0f);
+  const auto update_error = [&]() {
+    const double ca = std::cos(2 * (c(1) - c(0))), sa = std::sin(2 * (c(1) - c(0)));
+    const double cb = std::cos(-2 * (c(0) + c(1))), sb = std::sin(-2 * (c(0) + c(1)));
+    const double inv_rho = 1 / (1 + 4 * c(2));
+    for (std::size_t m = 0; m < px.size(); ++m) {
+      const double c2 = px[m].cos2, s2 = px[m].sin2;
+      const double x = cb * c2 - sa * s2 * inv_rho, y = sb * c2 + ca * s2 * inv_rho;
+      error[m] = static_cast<float>(-0.5 * std::atan2(c2 * y - s2 * x, c2 * x + s2 * y));
+    }
+  };
+  // The E-vector as the sky has it: the sensor's error taken out (to first order in the error).
+  const auto e_at = [&](std::size_t m) -> Eigen::Vector3d {
+    const Eigen::Vector3d& e = ev.e[at[m]];
+    return model ? Eigen::Vector3d(e - static_cast<double>(error[m]) * px[m].turn.cast<double>()) : e;
+  };
   std::vector<std::uint8_t> use(at.size(), 1);
   Eigen::Vector3d s;
   Eigen::Vector3d lambda;
-  for (int round = 0; round < (robust ? 3 : 1); ++round) {
-    // c = Σ w·e·eᵀ, entry by entry as Eigen's `c += w * e * e.transpose()` adds ((w·e_i)·e_j to
-    // c(i, j), in order), in locals: Eigen kept c in memory, where each sum waited on the last.
+  // s = the smallest eigenvector of Σ w·e·eᵀ over the corrected E-vectors, entry by entry as
+  // Eigen's `cov += w * e * e.transpose()` adds ((w·e_i)·e_j to cov(i, j), in order), in locals:
+  // Eigen kept the sum in memory, where each sum waited on the last.
+  const auto smallest_direction = [&]() {
     double c00 = 0, c10 = 0, c20 = 0, c01 = 0, c11 = 0, c21 = 0, c02 = 0, c12 = 0, c22 = 0;
     int used = 0;
     for (std::size_t k = 0; k < at.size(); ++k)
       if (use[k]) {
-        const Eigen::Vector3d& e = e_at(k);
+        const Eigen::Vector3d e = e_at(k);
         const double w = w_at(k), we0 = w * e(0), we1 = w * e(1), we2 = w * e(2);
         c00 += we0 * e(0), c10 += we1 * e(0), c20 += we2 * e(0);
         c01 += we0 * e(1), c11 += we1 * e(1), c21 += we2 * e(1);
         c02 += we0 * e(2), c12 += we1 * e(2), c22 += we2 * e(2);
         ++used;
       }
-    if (used < 10) return std::nullopt;
-    Eigen::Matrix3d c;
-    c << c00, c01, c02, c10, c11, c12, c20, c21, c22;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(c);
+    if (used < 10) return false;
+    Eigen::Matrix3d cov;
+    cov << c00, c01, c02, c10, c11, c12, c20, c21, c22;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
     s = eig.eigenvectors().col(0).normalized();
     lambda = eig.eigenvalues();
-    if (round == 2 || !robust) break;
+    return true;
+  };
+  // One Gauss–Newton step on the sun's two tangent angles and c, minimising Σ w·(s·e(c))², with the
+  // error's derivative in c taken to first order, (1, cos 4a', sin 4a'): at c = 0 it is exact, and
+  // the steps converge on the exact model's c.
+  const auto polarizer_step = [&]() {
+    const Eigen::Vector3d u1 = s.unitOrthogonal(), u2 = s.cross(u1);
+    double a[15] = {}, b[5] = {};  // JᵀWJ's lower triangle and JᵀWr, in locals (as above)
+    for (std::size_t k = 0; k < at.size(); ++k)
+      if (use[k]) {
+        const Read& rd = px[k];
+        const Eigen::Vector3d e = e_at(k);
+        const double st = -s.dot(rd.turn.cast<double>());
+        const double c2 = rd.cos2, s2 = rd.sin2;
+        const double j[5] = {e.dot(u1), e.dot(u2), st, st * (c2 * c2 - s2 * s2), st * (2 * c2 * s2)};
+        const double w = w_at(k), wr = w * s.dot(e);
+        int n = 0;
+        for (int p = 0; p < 5; ++p) {
+          const double wj = w * j[p];
+          for (int q = 0; q <= p; ++q) a[n++] += wj * j[q];
+          b[p] += wr * j[p];
+        }
+      }
+    Eigen::Matrix<double, 5, 5> jtj;
+    Eigen::Matrix<double, 5, 1> jtr;
+    int n = 0;
+    for (int p = 0; p < 5; ++p) {
+      for (int q = 0; q <= p; ++q) jtj(p, q) = jtj(q, p) = a[n++];
+      jtr(p) = b[p];
+    }
+    const Eigen::Matrix<double, 5, 1> step = -jtj.ldlt().solve(jtr);
+    if (!step.allFinite()) return;
+    s = (s + step(0) * u1 + step(1) * u2).normalized();
+    c += step.tail<3>();
+    // A model beyond kMaxPolarizerErrorRad is a sky it does not describe, not a sensor's error.
+    if (!c.allFinite() || c.cwiseAbs().maxCoeff() > kMaxPolarizerErrorRad) c.setZero();
+    update_error();
+  };
+  // Fit, then refit without the E-vectors farther out of the plane ⟂ s than 3 robust σ (at least
+  // kMinCutDeg): pixels whose AoLP no sun explains (cloud, glare, a neutral point) stop pulling.
+  // Without the polarizer model each round's sun is the eigenvector. With it, the model starts at
+  // c = 0 from the eigenvector and takes 3 steps, then one more per refit from where the last
+  // ended; the sun is the eigenvector of the corrected E-vectors.
+  constexpr double kMinCutDeg = 0.5;
+  const int rounds = robust ? 3 : 1;
+  if (!smallest_direction()) return std::nullopt;
+  for (int round = 0; round < rounds; ++round) {
+    if (model) {
+      for (int it = 0; it < (round == 0 ? 3 : 1); ++it) polarizer_step();
+      if (round == rounds - 1 && !smallest_direction()) return std::nullopt;
+    } else if (round > 0 && !smallest_direction()) {
+      return std::nullopt;
+    }
+    if (round == rounds - 1) break;
     std::vector<double> r(at.size());
     for (std::size_t k = 0; k < at.size(); ++k) r[k] = std::abs(e_at(k).dot(s));
     const double cut = std::max(std::sin(kMinCutDeg * kRadPerDeg), 3 * 1.4826 * nth_smallest(r, r.size() / 2));

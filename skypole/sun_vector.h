@@ -11,6 +11,22 @@
 // camera frame from the sensor AoLP through the camera's transport (meridional: E = cos a·e0 +
 // sin a·d×e0 with e0 = camera::meridional_e0(d); projected: E ⟂ d with the sensor-plane angle a);
 // the sign with the sun above the horizon.
+// The polarizer model (FrameEVectors::polarizer_model, on frames whose AoLP assumed the polarizers'
+// nominal angles: fits_polarizer, estimate.h). A DoFP sensor whose four micro-polarizers sit ε_k
+// off their angles 0°, 45°, 90°, 135°, demosaiced as if they did not, measures
+// S1' ∝ cos(2a − A)·cos(ε0 − ε90) and S2' ∝ sin(2a − B)·cos(ε45 − ε135) for a sky AoLP a,
+// A = ε0 + ε90, B = ε45 + ε135: it reads a' = a + c0 + c1·cos 4a' + c2·sin 4a' to first order,
+// with c0 = −(A + B)/4 (a common turn of every E-vector), c1 = (A − B)/4 and 4·c2 + 1 the ratio of
+// the two cosines. The same at every pixel of every frame, and an E-vector turned about its ray is
+// no longer ⟂ the sun: a degree of c0 moves the plain fit's sun by about as much. So the fit
+// models it exactly (its three parameters as c): s and c minimise Σ w·(s·(E − δ(a', c)·∂E/∂a))²,
+// δ the error the model gives at the measured a' (Gauss–Newton from the plain eigenvector, then
+// the eigenvector of the corrected E-vectors). A sky mirror-symmetric about the sun's vertical
+// plane, sampled symmetrically, has ∂/∂c0 = 0 at c = 0 (s·E is even under the mirror, s·∂E/∂a
+// odd), so the model costs such a sky no bias, but on a sky sampled unevenly c0 trades with the
+// sun's azimuth near the zenith and the sun's scatter grows (docs/calibration-history.md, "The
+// polarizer model"). A fitted term beyond 5° is no sensor's, and the fit then keeps the E-vectors
+// as read.
 // Pole, PoleFromSun::circle (no ephemeris, no site): the sun turns about the pole at declination
 // δ, s_t·p = sin δ_t; p minimises Σ (s_t·p − a − b·τ_t)² (b, the declination drift, only with the
 // linear detrend, automatic for windows ≥ 7 h), i.e. the smallest eigenvector of Sᵀ H S with H the
@@ -100,15 +116,22 @@ double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, con
 // robust (the default; InputOptions::sky_mask turns it off for before/after measurements): fit,
 // drop the pixels the fit misses by more than 3 robust σ (1.4826·median |residual|), refit twice.
 // The sun in one frame from its AoLP (see above); nullopt if too few polarized pixels.
+// polarizer_model: fit the sensor's polarizer error with the sun (above; fits_polarizer, estimate.h).
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
-                                             const camera::Camera& camera, double min_dolp,
+                                             const camera::Camera& camera, double min_dolp, bool polarizer_model,
                                              double* quality = nullptr, bool robust = true);
 // The same from the frame's E-vectors computed once (e_vectors.h: `ev` of a sky whose valid pixels
-// include `sky`'s, at a min_dolp no higher than this one's).
+// include `sky`'s, at a min_dolp no higher than this one's; ev.polarizer_model says whether the
+// polarizer error is fitted).
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const FrameEVectors& ev, double min_dolp,
                                              double* quality = nullptr, bool robust = true);
+// The same where `sky` says only which pixels to read (a mask of a prepared sky, without rays of
+// its own): `rays` are the prepared sky's.
+std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<Eigen::Vector3f>& rays,
+                                             const std::vector<float>& dolp, const FrameEVectors& ev,
+                                             double min_dolp, double* quality = nullptr, bool robust = true);
 
 // The sun in one frame from a Rayleigh fit of its DoLP, started at `start`; nullopt if the fit
 // fails. pmax receives the fitted Pmax, rms the DoLP residual.

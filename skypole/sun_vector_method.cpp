@@ -60,9 +60,12 @@ Method sun_dolp_method() {
   m.bare = sun_bare(m.name, PoleFromSun::circle, SunSource::dolp);
   m.traits = {.frame_jackknife_max_groups = 6, .sector_jackknife = true};
   // Its error lives in parts of the sky, so the sector factor binds; it fits the Rayleigh law, so
-  // it declines a sky far from it; 1° × the unpolarized share covers cloud.
-  m.calibration = {.method = m.name, .inflation = 0.25, .floor_deg = 0.03, .max_residual_deg = 5.0, .max_model_misfit = 0.01,
-                   .sector_inflation = 0.5, .unpolarized_deg = 1.0};
+  // it declines a sky far from it; 1° × the unpolarized share covers cloud. Its pole is the axis
+  // of the sun's path, as sun_vector's: in a window under an hour (an arc under 15°) a small bias
+  // of the suns, alike in every frame, moves the axis far, so it declines such windows as
+  // sun_vector does.
+  m.calibration = {.method = m.name, .inflation = 0.25, .floor_deg = 0.03, .max_residual_deg = 5.0, .min_window_min = 60.0,
+                   .max_model_misfit = 0.01, .sector_inflation = 0.5, .unpolarized_deg = 1.0};
   return m;
 }
 

@@ -264,6 +264,9 @@ ImportReport import_capture(const std::string& capture_path, const std::string& 
   header.sky_model = "capture";
   header.truth_known = false;
   header.site_known = site.has_value();
+  // A capture's polarizers are at their nominal angles only as far as its owner has measured them.
+  header.polarizer_angles =
+      sensor.demosaic == camera::Demosaic::calibrated ? PolarizerAngles::calibrated : PolarizerAngles::nominal;
   // WriteOptions' defaults are the renders', so an imported stack and a rendered one of the same raw
   // frames hold the same values.
   write_stack(out_path, truths, channels, w, h, header, WriteOptions{}, [&](std::size_t i) {

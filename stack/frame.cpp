@@ -51,4 +51,19 @@ void size_channel(std::vector<float>& channel, std::size_t n) {
   channel.swap(fresh);
 }
 
+const char* polarizer_angles_name(PolarizerAngles a) {
+  switch (a) {
+    case PolarizerAngles::calibrated: return "calibrated";
+    case PolarizerAngles::nominal: return "nominal";
+    case PolarizerAngles::none: break;
+  }
+  return "none";
+}
+
+std::optional<PolarizerAngles> polarizer_angles_named(std::string_view name) {
+  for (const PolarizerAngles a : {PolarizerAngles::none, PolarizerAngles::calibrated, PolarizerAngles::nominal})
+    if (name == polarizer_angles_name(a)) return a;
+  return std::nullopt;
+}
+
 }  // namespace skypol::stack

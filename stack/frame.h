@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,6 +16,16 @@
 #include "scene/truth.h"
 
 namespace skypol::stack {
+
+// What a frame's AoLP assumes of the sensor's micro-polarizers (skypol:polarizerAngles,
+// docs/exr-format.md). `none`: ideal Stokes, no sensor. `calibrated`: the angles the polarizers
+// have (a demosaic that inverts the sensor's own analyzer, or polarizers at the nominal angles the
+// demosaic assumes). `nominal`: the nominal angles, whatever the polarizers' own (an uncalibrated
+// pipeline: its AoLP may carry their error, which the AoLP sun fits then model, sun_vector.h).
+enum class PolarizerAngles : std::uint8_t { none, calibrated, nominal };
+// "none", "calibrated", "nominal"; and back (nullopt for any other name).
+const char* polarizer_angles_name(PolarizerAngles a);
+std::optional<PolarizerAngles> polarizer_angles_named(std::string_view name);
 
 // A frame: width×height pixels, row-major (index = y·width + x), one float vector per channel.
 // Channel names follow docs/exr-format.md: "S0.<band>" … "S3.<band>", "DoLP.<band>", "AoLP.<band>" (radians
@@ -28,6 +39,7 @@ struct Frame {
   // The exposure (µs) the sensor took this frame with, fixed or metered (skypol:exposureUs,
   // docs/exr-format.md); none for ideal Stokes (no [sensor]).
   std::optional<double> exposure_us;
+  PolarizerAngles polarizer_angles = PolarizerAngles::none;
   // Which renderer left every channel zero outside its spans of the image circle (a token of
   // render::Renderer, 0 for none), so that its next render into this frame, when the caller lets
   // it (RenderOptions::reuse_cleared), need not clear those pixels again. Whatever else writes

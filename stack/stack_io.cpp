@@ -58,6 +58,7 @@ bool stays_float(const std::string& channel) { return channel == "mask" || chann
 constexpr float kHalfMax = 65504.0f;
 
 constexpr const char* kExposure = "skypol:exposureUs";
+constexpr const char* kPolarizerAngles = "skypol:polarizerAngles";
 
 // Each part's exposure, noted as its frame is written (StackHeader::exposures).
 struct Exposures {
@@ -195,6 +196,9 @@ Imf::Header part_header(const scene::Truth& t, const std::vector<std::string>& c
   if (half) put<Imf::DoubleAttribute>(h, "skypol:halfClamp", static_cast<double>(kHalfMax));
   // Reserved: the value is written when the part's frame is (fill_exposures).
   if (sh.exposures) put<Imf::DoubleAttribute>(h, kExposure, 0.0);
+  if (sh.polarizer_angles != PolarizerAngles::none) {
+    put<Imf::StringAttribute>(h, kPolarizerAngles, polarizer_angles_name(sh.polarizer_angles));
+  }
   // A writer's own attributes may neither leave the skypol: namespace nor replace one of the above.
   const auto add = [&h](const std::pair<std::string, std::string>& a) {
     if (a.first.rfind("skypol:", 0) != 0 || h.find(a.first) != h.end()) {
@@ -584,6 +588,15 @@ Stack read_stack_frames(const std::string& path, const std::vector<std::string>&
         }
         frame.exposure_us = e->value();
       }
+      if (const auto* a = h.findTypedAttribute<Imf::StringAttribute>(kPolarizerAngles)) {
+        const std::optional<PolarizerAngles> angles = polarizer_angles_named(a->value());
+        if (!angles || *angles == PolarizerAngles::none) {
+          throw scene::SceneError(scene::FileLoc{path, 0, 0}, "part " + std::to_string(i) + "'s '" + kPolarizerAngles +
+                                                                   "' is '" + a->value() +
+                                                                   "', not \"calibrated\" or \"nominal\"");
+        }
+        frame.polarizer_angles = *angles;
+      }
       const Imath::Box2i dw = h.dataWindow();
       frame.width = dw.max.x - dw.min.x + 1;
       frame.height = dw.max.y - dw.min.y + 1;
@@ -689,6 +702,11 @@ std::string describe_stack(const std::string& path) {
         std::snprintf(line, sizeof line, "exposure: %.6g to %.6g us (per frame: skypol:exposureUs)\n", lo, hi);
       }
       os << line;
+    }
+    if (const auto* a = h0.findTypedAttribute<Imf::StringAttribute>(kPolarizerAngles)) {
+      os << "polarizer angles: " << a->value()
+         << (a->value() == "nominal" ? " (the AoLP assumes them: the estimators fit the polarizers' error)\n"
+                                     : " (the AoLP assumes the polarizers' own)\n");
     }
     if (!known.truth) {
       // A capture: times and, when given, the site and the sun; the heading is what it is for.

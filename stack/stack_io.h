@@ -37,6 +37,9 @@ struct StackHeader {
   // and a metered exposure is known only once its frame is rendered, so the writer reserves the
   // attribute and fills in each part's value when the file is complete.
   bool exposures = false;
+  // Frames through a sensor: what their AoLP assumes of its polarizers, on every part as
+  // skypol:polarizerAngles (stack/frame.h, PolarizerAngles); none writes no attribute.
+  PolarizerAngles polarizer_angles = PolarizerAngles::none;
 };
 
 // Defaults: the renders' (scene/output_defaults.h), so every writer of stacks agrees by default.

@@ -177,6 +177,7 @@ void study_compression(const StudyOptions& o) {
       header.bands = {"Y"};
       header.camera_description = mem->camera_description;
       header.sky_model = "rayleigh";
+      header.polarizer_angles = mem->frames.front().polarizer_angles;
       for (std::size_t k = 0; k < all.size(); ++k) {
         const Setting& s = all[k];
         stack::WriteOptions wo;

@@ -374,13 +374,16 @@ Estimate = dataclasses.make_dataclass(
 def estimate(data: Stack | Mapping[str, Any] | np.ndarray, method: str | Sequence[str] = "classic", *,
              scene: Scene | None = None, times: Any = None, band: str = "", hemisphere: str = "automatic",
              min_elevation_deg: float = 0.0, heading_undefined_within_deg: float = 0.5,
-             attitude: tuple[float, float] | None = None, site: str = "stack", as_dict: bool = False):
+             attitude: tuple[float, float] | None = None, site: str = "stack", polarizer_model: str = "stack",
+             as_dict: bool = False):
     """Estimate north with one estimator (an Estimate) or several (a list; "all" is every one).
     data: a Stack, or arrays with scene= and times= (a dict of channels as for stack_from_arrays,
     or a frames×height×width DoLP array of the scene's first band). attitude: (tilt_deg, roll_deg)
     the estimator may use (default: the truth's). site: "stack" (its site and times, if it knows them)
     or "unknown" (as if it did not: methods that need the site decline, auto is site-free; the CLI's
-    --site). The GIL is released while estimating."""
+    --site). polarizer_model: "stack" (fit the sensor's polarizer angle errors on the frames whose
+    AoLP assumed their nominal angles), "always" or "never" (the CLI's --polarizer-model). The GIL
+    is released while estimating."""
     if not isinstance(data, Stack):
         if scene is None or times is None:
             raise ValueError("estimate: arrays need scene= and times=")
@@ -391,7 +394,8 @@ def estimate(data: Stack | Mapping[str, Any] | np.ndarray, method: str | Sequenc
     out = []
     for m in methods:
         d = _skypol.estimate(data._h, m, band, hemisphere, min_elevation_deg, heading_undefined_within_deg,
-                             None if attitude is None else (float(attitude[0]), float(attitude[1])), site)
+                             None if attitude is None else (float(attitude[0]), float(attitude[1])), site,
+                             polarizer_model)
         out.append(d if as_dict else Estimate(**d))
     return out[0] if isinstance(method, str) and method != "all" else out
 

@@ -196,3 +196,30 @@ TEST_CASE("--site unknown: the ephemeris declines, auto is site-free; skypol met
   CHECK_THAT(run("methods").out, Catch::Contains("needs the site") && Catch::Contains("auto"));
   CHECK_THAT(run("estimate --help").out, Catch::Contains("sun_azimuth, auto, or all") && Catch::Contains("--site"));
 }
+
+TEST_CASE("polarizers off their angles: the stack says so, and the fits model them unless told not to",
+          "[cli][polarizer]") {
+  TempDir dir;
+  const std::string stack = (dir.path / "dofp.exr").string();
+  const std::string scene = std::string(SKYPOL_SOURCE_DIR) + "/scenes/skypole-marseille-dofp.toml";
+  REQUIRE(run("render -q " + scene + " --set camera.binning=16 --set time.step_min=60 --set sensor.shot_noise=false " +
+              "--set sensor.read_noise_e=0 --set 'sensor.angle_error_deg=[1.5, 0.8, -0.3, 1.1]' -o " + stack)
+              .code == 0);
+  CHECK_THAT(run("info " + stack).out, Catch::Contains("polarizer angles: nominal"));
+  const auto error_deg = [&](const std::string& options) {
+    const Result r = run("estimate -q " + stack + " -m sun_vector_ephemeris --json " + options);
+    INFO(r.out);
+    REQUIRE(r.code == 0);
+    const std::size_t at = r.out.find("\"angular_error_deg\": ");
+    REQUIRE(at != std::string::npos);
+    return std::stod(r.out.substr(at + 21));
+  };
+  const double modelled = error_deg(""), as_read = error_deg("--polarizer-model never");
+  INFO("sun_vector_ephemeris: " << modelled << " deg with the model, " << as_read << " without");
+  CHECK(modelled < 0.01);  // measured 0.0007°, through the colour sensor's demosaic
+  CHECK(as_read > 0.3);    // 0.78°
+  CHECK(error_deg("--polarizer-model always") == modelled);
+  const Result bad = run("estimate " + stack + " --polarizer-model maybe");
+  CHECK(bad.code == 2);
+  CHECK_THAT(bad.out, Catch::Contains("--polarizer-model") && Catch::Contains("always"));
+}

@@ -475,3 +475,45 @@ TEST_CASE("a vrte sky through an auto-exposed sensor needs no hand scaling", "[s
     CHECK(farthest_deg < 8);
   }
 }
+
+TEST_CASE("a frame says what its AoLP assumes of the polarizers, and its header keeps it", "[sensor]") {
+  using stack::PolarizerAngles;
+  // The sensor stage: calibrated where the demosaic's angles are the polarizers' own.
+  scene::SensorSpec s = sensor(8, 8);
+  stack::Frame f = uniform_frame(8, 8, 1.0f, 0.3f, 0.4f);
+  render::apply_sensor(s, {"Y"}, 0, f);
+  CHECK(f.polarizer_angles == PolarizerAngles::calibrated);  // ideal polarizers, nominal demosaic
+  s.dofp.angle_error_deg = {0.5, 0, 0, 0};
+  f = uniform_frame(8, 8, 1.0f, 0.3f, 0.4f);
+  render::apply_sensor(s, {"Y"}, 0, f);
+  CHECK(f.polarizer_angles == PolarizerAngles::nominal);
+  CHECK(render::polarizer_angles(s) == PolarizerAngles::nominal);
+  s.demosaic = camera::Demosaic::calibrated;
+  CHECK(render::polarizer_angles(s) == PolarizerAngles::calibrated);
+
+  // The header: skypol:polarizerAngles on every part, absent without a sensor; a value that is
+  // neither name is refused, naming the attribute.
+  const std::string path = (std::filesystem::temp_directory_path() / "skypol-polarizer-angles.exr").string();
+  std::vector<scene::Truth> truths(2);
+  for (std::size_t i = 0; i < 2; ++i) truths[i].time = sky::Instant{1.6639e9 + 60.0 * static_cast<double>(i)};
+  stack::StackHeader header;
+  header.camera_description = "model = \"equidistant\"\nfx = 2\nwidth = 4\nheight = 3\n";
+  header.sky_model = "rayleigh";
+  const auto written = [&](const stack::StackHeader& h) {
+    stack::write_stack(path, truths, {"mask"}, 4, 3, h, {}, [&](std::size_t) { return uniform_frame(4, 3, 0, 0, 0); });
+    const stack::Stack st = stack::read_stack(path);
+    std::filesystem::remove(path);
+    REQUIRE(st.frames.size() == 2);
+    CHECK(st.frames[0].polarizer_angles == st.frames[1].polarizer_angles);
+    return st.frames[1].polarizer_angles;
+  };
+  for (const PolarizerAngles a : {PolarizerAngles::none, PolarizerAngles::calibrated, PolarizerAngles::nominal}) {
+    header.polarizer_angles = a;
+    CHECK(written(header) == a);
+  }
+  header.polarizer_angles = PolarizerAngles::none;
+  header.attributes = {{"skypol:polarizerAngles", "sideways"}};
+  stack::write_stack(path, truths, {"mask"}, 4, 3, header, {}, [&](std::size_t) { return uniform_frame(4, 3, 0, 0, 0); });
+  CHECK_THROWS_WITH(stack::read_stack(path), Catch::Contains("skypol:polarizerAngles") && Catch::Contains("sideways"));
+  std::filesystem::remove(path);
+}

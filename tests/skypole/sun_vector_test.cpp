@@ -1,15 +1,21 @@
 // The sun-vector baseline (AoLP ⟂ sun) on synthetic Rayleigh stacks.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
 #include <iostream>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "sky/sun.h"
 #include "sky/units.h"
+#include "skypole/e_vectors.h"
+#include "skypole/sky_images.h"
+#include "skypole/stack_sky.h"
 #include "skypole/sun_vector.h"
 #include "fixtures.h"
 
@@ -271,4 +277,122 @@ TEST_CASE("sun_dolp measures how far the sky departs from Rayleigh's law, beyond
   // The same measure on its own, as great_circle's gate reads it (no pole fit behind it).
   CHECK(skypole::rayleigh_law_misfit(berry, p.input) == r.estimate.model_misfit);
   CHECK(skypole::rayleigh_law_misfit(clear, p.input) < 0.001);
+}
+
+namespace {
+
+// The AoLP a DoFP sensor reads of a sky AoLP a when its micro-polarizers sit eps_deg off 0°, 45°,
+// 90° and 135° and it is demosaiced as if they did not: its four intensities ½(1 + cos 2(a − θ)),
+// then S1 = I0 − I90, S2 = I45 − I135 (camera/dofp_sensor.h's nominal demosaic).
+double read_through_mosaic(double a, const std::array<double, 4>& eps_deg) {
+  double i[4];
+  for (int k = 0; k < 4; ++k) i[k] = 0.5 * (1 + std::cos(2 * (a - rad_from_deg(45.0 * k + eps_deg[k]))));
+  return 0.5 * std::atan2(i[1] - i[3], i[0] - i[2]);
+}
+
+}  // namespace
+
+TEST_CASE("e_vector_turn: the sensor angle of an E-vector and its derivative, both transports",
+          "[skypole][sun_vector][polarizer]") {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const camera::Transport t : {camera::Transport::meridional, camera::Transport::projected}) {
+    for (int n = 0; n < 200; ++n) {
+      Eigen::Vector3d d(u(rng), u(rng), 0.2 + std::abs(u(rng)));
+      d.normalize();
+      const double a = 1.5 * u(rng);
+      const auto e = skypole::e_vector(d, a, t);
+      REQUIRE(e);
+      const skypole::EVectorTurn turn = skypole::e_vector_turn(d, *e, t);
+      // The sensor angle, mod π (an E-vector's sign says nothing).
+      CHECK(std::abs(std::sin(std::atan2(turn.sin_a, turn.cos_a) - a)) < 1e-9);
+      // ∂e/∂a by central differences (the sign of e is kept by continuity).
+      constexpr double h = 1e-5;
+      const Eigen::Vector3d fd = (*skypole::e_vector(d, a + h, t) - *skypole::e_vector(d, a - h, t)) / (2 * h);
+      const double sign = (turn.cos_a * std::cos(a) + turn.sin_a * std::sin(a)) > 0 ? 1 : -1;
+      CHECK((sign * turn.turn - fd).norm() < 1e-7);
+      CHECK(std::abs(turn.turn.dot(*e)) < 1e-12);
+    }
+  }
+}
+
+TEST_CASE("the AoLP sun fit reads through a sensor whose polarizers are off their angles",
+          "[skypole][sun_vector][polarizer]") {
+  // Micro-polarizers up to 2° off their angles, within what DoFP sensors show.
+  const stack::Stack stack = testing::make_stack(paper_spec(37));
+  skypole::InputOptions input;
+  const skypole::SkyImages sky = skypole::prepare_sky_images(stack, input, 1, "test");
+  const std::array<double, 4> eps = {1.7, -0.6, 1.9, 0.4};
+  constexpr double kMinDolp = 0.05;
+  for (const std::size_t t : {std::size_t{0}, std::size_t{8}, std::size_t{16}}) {
+    const stack::Frame& frame = stack.frames[t];
+    std::vector<float> aolp = frame.channels.at("AoLP.Y");
+    for (float& a : aolp)
+      if (std::isfinite(a)) a = static_cast<float>(read_through_mosaic(a, eps));
+    const Eigen::Vector3d truth = frame.truth.world_from_camera.transpose() * frame.truth.sun.direction;
+    const auto fitted = skypole::sun_from_aolp(sky, sky.dolp[t], aolp, *stack.camera, kMinDolp, true);
+    REQUIRE(fitted);
+    const double err = deg_from_rad(std::atan2(truth.cross(*fitted).norm(), truth.dot(*fitted)));
+    CHECK(err < 0.002);
+    // The test can fail: the smallest eigenvector of Σ w·e·eᵀ over the distorted E-vectors, the fit
+    // without the model, computed here on its own, is far off.
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (std::size_t i = 0; i < sky.pixels(); ++i) {
+      const double p = sky.dolp[t][i];
+      if (!sky.valid[i] || !(p >= kMinDolp) || !std::isfinite(aolp[i])) continue;
+      const auto e = skypole::e_vector(sky.ray_camera[i].cast<double>(), aolp[i], stack.camera->transport());
+      if (e) cov += p * p * *e * e->transpose();
+    }
+    const Eigen::Vector3d plain = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+    const double plain_err = deg_from_rad(std::atan2(truth.cross(plain).norm(), std::abs(truth.dot(plain))));
+    INFO("frame " << t << ": fitted " << err << "°, without the model " << plain_err << "°");
+    CHECK(plain_err > 0.3);
+  }
+}
+
+TEST_CASE("the fits model the polarizers where the stack says its AoLP assumed their nominal angles",
+          "[skypole][sun_vector][polarizer]") {
+  using stack::PolarizerAngles;
+  using skypole::PolarizerModel;
+  // The rule, case by case.
+  stack::Frame f;
+  for (const PolarizerAngles a : {PolarizerAngles::none, PolarizerAngles::calibrated, PolarizerAngles::nominal}) {
+    f.polarizer_angles = a;
+    CHECK(skypole::fits_polarizer(f, PolarizerModel::from_stack) == (a == PolarizerAngles::nominal));
+    CHECK(skypole::fits_polarizer(f, PolarizerModel::always));
+    CHECK_FALSE(skypole::fits_polarizer(f, PolarizerModel::never));
+  }
+  CHECK(skypole::parse_polarizer_model("stack") == PolarizerModel::from_stack);
+  CHECK_THROWS_WITH(skypole::parse_polarizer_model("sometimes"), Catch::Contains("always"));
+
+  // Through a prepared stack: every frame's AoLP read through polarizers up to 1.5° off, as an
+  // uncalibrated pipeline would. The stack's own word decides, and the options override it.
+  stack::Stack stack = testing::make_stack(paper_spec(37));
+  for (stack::Frame& frame : stack.frames)
+    for (float& a : frame.channels.at("AoLP.Y"))
+      if (std::isfinite(a)) a = static_cast<float>(read_through_mosaic(a, {1.5, 0.8, -0.3, 1.1}));
+  const auto worst_error = [&](PolarizerAngles angles, PolarizerModel model) {
+    for (stack::Frame& frame : stack.frames) frame.polarizer_angles = angles;
+    skypole::InputOptions input;
+    input.polarizer_model = model;
+    const skypole::StackSky whole(stack, input);
+    const skypole::SkyImages& sky = whole.sky(1, "test");
+    const skypole::SkyView view(whole);
+    const auto suns = view.aolp_suns(sky, view.e_vectors(sky), 0.05, true);
+    double worst = 0;
+    for (std::size_t t = 0; t < suns.size(); ++t) {
+      REQUIRE(suns[t]);
+      const scene::Truth& truth = stack.frames[t].truth;
+      const Eigen::Vector3d s = truth.world_from_camera.transpose() * truth.sun.direction;
+      worst = std::max(worst, deg_from_rad(std::atan2(s.cross(*suns[t]).norm(), s.dot(*suns[t]))));
+    }
+    return worst;
+  };
+  const double modelled = worst_error(PolarizerAngles::nominal, PolarizerModel::from_stack);
+  const double as_read = worst_error(PolarizerAngles::calibrated, PolarizerModel::from_stack);
+  INFO("worst sun error: modelled " << modelled << "°, as read " << as_read << "°");
+  CHECK(modelled < 0.002);
+  CHECK(as_read > 0.5);
+  CHECK(worst_error(PolarizerAngles::calibrated, PolarizerModel::always) == modelled);
+  CHECK(worst_error(PolarizerAngles::nominal, PolarizerModel::never) == as_read);
 }

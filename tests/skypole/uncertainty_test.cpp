@@ -207,6 +207,11 @@ TEST_CASE("declines, each with its true reason", "[skypole][uncertainty]") {
     const skypole::PoleEstimate committed = skypole::run_method(stack, "sun_vector");
     CHECK_FALSE(committed.valid);
     CHECK_THAT(committed.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
+    // sun_dolp's pole is the same axis of the sun's path, and its gate the same.
+    REQUIRE(skypole::run_method(stack, "sun_dolp", uncalibrated).valid);
+    const skypole::PoleEstimate dolp = skypole::run_method(stack, "sun_dolp");
+    CHECK_FALSE(dolp.valid);
+    CHECK_THAT(dolp.why_invalid, Catch::Contains("window (40 min) is shorter than the 60 min"));
   }
   SECTION("a short noisy window: the jackknife sees the answer move and the cone is wide or the method declines") {
     spec.times = testing::times_every("2022-09-23T11:00:00Z", "2022-09-23T11:20:00Z", 5);
