@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 
 #include <Eigen/Geometry>
 #include <tbb/blocked_range.h>
@@ -410,13 +411,20 @@ void ClassicRuns::add(std::vector<float> filtered) {
     low[k].assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) low[k][i] = sky.valid[i] && diff[i] <= thr ? 1 : 0;
   });
+  const auto add_to = [&](auto& count, const std::vector<std::uint8_t>& binary) {
+    if (count.empty()) count.assign(n, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        count[i] = static_cast<std::remove_reference_t<decltype(count[i])>>(count[i] + binary[i]);
+    });
+  };
   for (std::size_t k = 0; k < now.size(); ++k)
     for (const std::size_t r : now[k]->runs) {
-      std::vector<std::uint32_t>& count = runs_[r].count;
-      if (count.empty()) count.assign(n, 0);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) count[i] += low[k][i];
-      });
+      Run& run = runs_[r];
+      if (run.pairs <= 0xffff)
+        add_to(run.count16, low[k]);
+      else
+        add_to(run.count, low[k]);
     }
   // Frames no later pair reads are let go.
   for (std::size_t g = 0; g <= f; ++g)
@@ -430,6 +438,7 @@ PoleEstimate ClassicRuns::answer(std::size_t r) const {
   const SkyImages& sky = *sky_;
   std::vector<float> sum(sky.pixels(), 0.0f);
   for (std::size_t i = 0; i < run.count.size(); ++i) sum[i] = static_cast<float>(run.count[i]);
+  for (std::size_t i = 0; i < run.count16.size(); ++i) sum[i] = static_cast<float>(run.count16[i]);
   return classic_answer(
       sky, sum, run.pairs,
       [&] {
@@ -443,7 +452,9 @@ PoleEstimate ClassicRuns::answer(std::size_t r) const {
 std::size_t ClassicRuns::bytes() const {
   std::size_t b = suns_.capacity() * sizeof(suns_[0]) + last_use_.capacity() * sizeof(int) +
                   pairs_.capacity() * sizeof(Pair);
-  for (const Run& run : runs_) b += run.count.capacity() * sizeof(std::uint32_t) + run.frames.capacity() * sizeof(int);
+  for (const Run& run : runs_)
+    b += run.count.capacity() * sizeof(std::uint32_t) + run.count16.capacity() * sizeof(std::uint16_t) +
+         run.frames.capacity() * sizeof(int);
   for (const Pair& p : pairs_) b += p.runs.capacity() * sizeof(std::size_t);
   for (const std::vector<float>& f : filtered_) b += f.capacity() * sizeof(float) + sizeof(f);
   return b;

@@ -111,6 +111,8 @@ class ClassicRuns {
   // The next frame's DoLP, disk-filtered on `sky` with radius_px() (step 1).
   void add(std::vector<float> filtered);
   double radius_px() const { return radius_; }
+  // find_suns of frame f's filtered DoLP, once it is added.
+  const std::optional<Eigen::Vector3d>& sun(std::size_t f) const { return suns_[f]; }
   // Run r's answer, once every frame is added.
   PoleEstimate answer(std::size_t r) const;
   std::size_t bytes() const;  // what it keeps between frames
@@ -123,7 +125,10 @@ class ClassicRuns {
   struct Run {
     std::vector<int> frames;
     std::size_t pairs = 0;
-    std::vector<std::uint32_t> count;  // per pixel, how many of its pairs differ little there
+    // Per pixel, how many of its pairs differ little there: in 16 bits while it has fewer than
+    // 65536 pairs (the other vector stays empty).
+    std::vector<std::uint16_t> count16;
+    std::vector<std::uint32_t> count;
   };
   const SkyImages* sky_;
   ClassicParams params_;

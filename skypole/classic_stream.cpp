@@ -53,10 +53,33 @@ struct Readings {
   std::vector<UnreadableSky> unread;         // per frame, its share (unreadable_share)
   std::vector<std::optional<double>> ring;   // per frame, its spread (ring_spread)
   std::optional<JudgmentTally> tally;        // the sky mask's judgments (InputOptions::sky_mask)
+  // Per frame, the misfit of its Rayleigh fit on the sky unmasked (nullopt: no fit), which is the
+  // misfit's own when the mask leaves out no pixel.
+  std::vector<std::optional<double>> unmasked_misfit;
   std::size_t bytes() const {
-    return unread.capacity() * sizeof(UnreadableSky) + ring.capacity() * sizeof(ring[0]) + (tally ? tally->bytes() : 0);
+    return unread.capacity() * sizeof(UnreadableSky) + ring.capacity() * sizeof(ring[0]) +
+           unmasked_misfit.capacity() * sizeof(unmasked_misfit[0]) + (tally ? tally->bytes() : 0);
   }
 };
+
+// One frame's part of rayleigh_law_misfit (sun_vector.h fit_rayleigh_law) on `sky`, whose dolp is
+// that frame's: the Rayleigh fit from `start` and the misfit of the law it fits (nullopt when the
+// fit fails). robust: InputOptions::sky_mask, as the fits there.
+std::optional<double> frame_misfit(const SkyImages& sky, const std::optional<Eigen::Vector3d>& start, bool robust) {
+  if (!start) return std::nullopt;
+  double pmax = 0, rms = 1.0;
+  const std::optional<Eigen::Vector3d> sun = sun_from_dolp(sky, sky.dolp[0], *start, &pmax, &rms, robust);
+  if (!sun) return std::nullopt;
+  return rayleigh_misfit(sky, sky.dolp[0], *sun, pmax);
+}
+
+// The median of the frames' misfits, 1 if no frame has one (rayleigh_law_misfit).
+double median_misfit(const std::vector<std::optional<double>>& misfits) {
+  std::vector<double> fitted;
+  for (const std::optional<double>& m : misfits)
+    if (m) fitted.push_back(*m);
+  return fitted.empty() ? 1.0 : quantile(fitted, 0.5);
+}
 
 // One frame's sky-mask judgments on `sky` (whose dolp is that frame's), as StackSky::judgments makes
 // them for every frame: from its E-vectors and its robust AoLP sun when it has the AoLP channel.
@@ -76,37 +99,30 @@ SkyJudgments judge_frame(const SkyImages& sky, const stack::Frame& frame, const 
   return judge_sky(sky, frames, camera, SkyMaskParams{}, &ev, &suns);
 }
 
-// rayleigh_law_misfit of the whole stack (sun_vector.h), from pass 3: per frame, the Rayleigh fit
-// of the masked sky from the mask's sun, or from the lowest filtered DoLP of the unmasked sky.
-double streamed_misfit(const std::string& path, const std::string& dolp_name, const SkyImages& sky,
-                       const Readings& readings, bool sky_mask, std::size_t& retained) {
-  SkyImages unmasked = sky;
+// rayleigh_law_misfit of the whole stack (sun_vector.h) where the mask leaves out pixels, from
+// pass 3: per frame, the Rayleigh fit of the masked sky from the mask's sun, or from the lowest
+// filtered DoLP of the unmasked sky.
+double masked_misfit(const std::string& path, const std::string& dolp_name, SkyImages& unmasked, const SkyMask& mask,
+                     std::size_t& retained, std::size_t kept_bytes) {
+  const SkyImages& sky = unmasked;
   SkyImages masked = sky;
-  SkyMask mask;
-  if (sky_mask) {
-    mask = readings.tally->mask(sky);
-    apply_mask(masked, mask);
-  }
+  apply_mask(masked, mask);
   const double radius = default_filter_radius_px(sky.width, sky.height);
-  std::vector<double> fitted;
+  std::vector<std::optional<double>> misfits;
   (void)stack::read_stack_frames(path, {dolp_name}, [&](std::size_t t, stack::Frame&& frame) {
     const std::vector<float>& dolp = frame.channels.at(dolp_name);
     unmasked.dolp = FrameImages();
     unmasked.dolp.push_back(dolp);
     masked.dolp = unmasked.dolp;
-    std::optional<Eigen::Vector3d> start;
-    if (sky_mask && mask.suns[t])
-      start = mask.suns[t];
-    else
-      start = find_suns(unmasked, std::vector<std::vector<float>>{disk_filter(dolp, unmasked, radius)}).front();
-    if (!start) return;
-    double pmax = 0, rms = 1.0;
-    const std::optional<Eigen::Vector3d> sun = sun_from_dolp(masked, dolp, *start, &pmax, &rms, sky_mask);
-    if (sun) fitted.push_back(rayleigh_misfit(masked, dolp, *sun, pmax));
-    retained = std::max(retained, 2 * sky_bytes(sky) + mask.masked.capacity() + fitted.capacity() * sizeof(double) +
-                                      readings.bytes());
+    const std::optional<Eigen::Vector3d> start =
+        mask.suns[t] ? mask.suns[t]
+                     : find_suns(unmasked, std::vector<std::vector<float>>{disk_filter(dolp, unmasked, radius)}).front();
+    misfits.push_back(frame_misfit(masked, start, true));
+    retained = std::max(retained, sky_bytes(sky) + sky_bytes(masked) + mask.masked.capacity() +
+                                      misfits.capacity() * sizeof(misfits[0]) + kept_bytes);
   });
-  return fitted.empty() ? 1.0 : quantile(fitted, 0.5);
+  unmasked.dolp = FrameImages();
+  return median_misfit(misfits);
 }
 
 }  // namespace
@@ -177,6 +193,18 @@ StreamedEstimate run_classic_streamed(const std::string& path, const InputOption
                          });
     readings->unread.push_back(unreadable_share(sky, 0, sun));
     readings->ring.push_back(ring_spread(sky, 0, sun));
+    // The misfit's fit as if the mask left out nothing (a clear sky's), from the mask's sun or the
+    // lowest filtered DoLP (classic's filter, when its radius is the fit's default).
+    std::optional<Eigen::Vector3d> start;
+    if (judged && judged->suns[0])
+      start = judged->suns[0];
+    else if (runs->radius_px() == default_filter_radius_px(sky.width, sky.height))
+      start = runs->sun(readings->unread.size() - 1);
+    else
+      start = find_suns(sky, std::vector<std::vector<float>>{
+                                 disk_filter(dolp, sky, default_filter_radius_px(sky.width, sky.height))})
+                  .front();
+    readings->unmasked_misfit.push_back(frame_misfit(sky, start, input.sky_mask));
     if (judged) readings->tally->add(*judged);
     out.retained_bytes = std::max(out.retained_bytes, sky_bytes(sky) + runs->bytes() + readings->bytes());
   });
@@ -207,8 +235,14 @@ StreamedEstimate run_classic_streamed(const std::string& path, const InputOption
     }
   measured.ring_anisotropy = ring_frames ? ring_total / ring_frames : 0.0;
   measured.misfit = [&] {
-    ++out.passes;
-    return streamed_misfit(path, dolp_name, sky, *readings, input.sky_mask, out.retained_bytes);
+    if (readings->tally) {
+      const SkyMask mask = readings->tally->mask(sky);
+      if (mask.masked_count > 0 && sky.valid_count - mask.masked_count >= 50) {  // apply_mask changes the sky
+        ++out.passes;
+        return masked_misfit(path, dolp_name, sky, mask, out.retained_bytes, runs->bytes() + readings->bytes());
+      }
+    }
+    return median_misfit(readings->unmasked_misfit);
   };
   out.estimate = finish_method_run(out.stack, method, input, std::move(run), std::move(measured), started);
   return out;
