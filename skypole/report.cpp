@@ -231,9 +231,10 @@ void print_estimate(const EstimateRequest& r) {
       streamed_estimate = std::move(s.estimate);
     } catch (const std::invalid_argument& err) {
       // Declined: the frames' truths and sizes for the report, from their headers and one channel.
-      const std::string first = stack::peek_stack(r.path).channels.front();
+      const std::vector<std::string> channels = stack::peek_stack(r.path).channels;
       std::vector<stack::Frame> frames;
-      stack = stack::read_stack_frames(r.path, {first}, [&](std::size_t, stack::Frame&& f) {
+      stack = stack::read_stack_frames(r.path, {channels.begin(), channels.begin() + (channels.empty() ? 0 : 1)},
+                                       [&](std::size_t, stack::Frame&& f) {
         f.channels.clear();
         frames.push_back(std::move(f));
       });
