@@ -13,6 +13,12 @@ namespace skypol::skypole {
 // only when a gate reads them.
 void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& whole,
                              std::optional<UnreadableSky>& unread) {
+  std::optional<double> ring;
+  apply_calibration_gates(e, c, whole, unread, ring);
+}
+
+void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& whole,
+                             std::optional<UnreadableSky>& unread, std::optional<double>& ring) {
   const stack::Stack& stack = whole.stack();
   const InputOptions& input = whole.input();
   if (!e.valid || !input.calibrated) return;
@@ -99,7 +105,8 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
     }
   }
   if (gate_set(Gate::ring_anisotropy, c)) {
-    const double a = r.ring_anisotropy = ring_anisotropy(sky_images());
+    if (!ring) ring = ring_anisotropy(sky_images());
+    const double a = r.ring_anisotropy = *ring;
     if (gate_declines(Gate::ring_anisotropy, c, r)) {
       std::snprintf(buf, sizeof buf,
                     "the sky is not the single-scattering shape this method assumes: around the sun its DoLP "

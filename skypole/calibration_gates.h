@@ -23,5 +23,10 @@ void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const 
 // shares when a gate measured them, so that the σ terms do not prepare the same images again.
 void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& whole,
                              std::optional<UnreadableSky>& unread);
+// The same with the sky's ring anisotropy kept in `ring` likewise; a caller that measured the
+// shares or the anisotropy already (a stack read frame by frame, classic_stream.h) passes them in
+// and the sky is not prepared for them.
+void apply_calibration_gates(PoleEstimate& e, const MethodCalibration& c, const StackSky& whole,
+                             std::optional<UnreadableSky>& unread, std::optional<double>& ring);
 
 }  // namespace skypol::skypole

@@ -95,4 +95,50 @@ std::size_t classic_min_frames(const ClassicParams& params);
 ClassicResult classic_from(const ClassicPrepared& prepared, const ClassicParams& params,
                            const std::vector<std::uint8_t>* keep_frame = nullptr);
 
+// Steps 2–6 of several runs at once (the whole stack and a frame jackknife's subsets), fed one
+// filtered frame at a time, so that a stack read part by part need not hold its frames: a filtered
+// frame is kept only until the last pair that reads it (two frames back for consecutive pairs,
+// `interval` for PairMode::interval, every frame for PairMode::all), each distinct pair is
+// differenced once, and each run keeps its count of low differences per pixel. Each answer is
+// classic_from(prepare_classic(…), params, &keep) of the run's keep, bit for bit.
+class ClassicRuns {
+ public:
+  // `sky`: the whole stack's prepared sky (it must outlive this; its frames are not read);
+  // `frames`: how many will be added; keeps: one run each (empty: every frame). Throws as
+  // prepare_classic and classic_from would (parameters, too few frames for a run).
+  ClassicRuns(const SkyImages& sky, const ClassicParams& params, std::size_t frames,
+              const std::vector<std::vector<std::uint8_t>>& keeps);
+  // The next frame's DoLP, disk-filtered on `sky` with radius_px() (step 1).
+  void add(std::vector<float> filtered);
+  double radius_px() const { return radius_; }
+  // find_suns of frame f's filtered DoLP, once it is added.
+  const std::optional<Eigen::Vector3d>& sun(std::size_t f) const { return suns_[f]; }
+  // Run r's answer, once every frame is added.
+  PoleEstimate answer(std::size_t r) const;
+  std::size_t bytes() const;  // what it keeps between frames
+
+ private:
+  struct Pair {
+    int a = 0, b = 0;                // frames, a < b
+    std::vector<std::size_t> runs;  // the runs that read it
+  };
+  struct Run {
+    std::vector<int> frames;
+    std::size_t pairs = 0;
+    // Per pixel, how many of its pairs differ little there: in 16 bits while it has fewer than
+    // 65536 pairs (the other vector stays empty).
+    std::vector<std::uint16_t> count16;
+    std::vector<std::uint32_t> count;
+  };
+  const SkyImages* sky_;
+  ClassicParams params_;
+  double radius_;
+  std::size_t frames_, added_ = 0, next_pair_ = 0;
+  std::vector<Run> runs_;
+  std::vector<Pair> pairs_;                  // by their later frame
+  std::vector<int> last_use_;                // per frame, the last frame whose pairs read it
+  std::vector<std::vector<float>> filtered_;  // per frame, while a pair will read it
+  std::vector<std::optional<Eigen::Vector3d>> suns_;  // per frame, find_suns of its filtered DoLP
+};
+
 }  // namespace skypol::skypole

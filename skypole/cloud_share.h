@@ -13,6 +13,10 @@
 // A clear sky scores ≈ 0; a sky half under thick cloud ≈ ½.
 #pragma once
 
+#include <optional>
+
+#include <Eigen/Core>
+
 #include "skypole/sky_images.h"
 
 namespace skypol::skypole {
@@ -32,5 +36,11 @@ UnreadableSky unreadable_sky(const SkyImages& sky);
 // noise's (≈ 0); neutral points 15–25° from the sun (Berry's, the multiple-scattering sky's) put
 // a second zero on the ring's solar-vertical side, and so a spread of a large part of the range.
 double ring_anisotropy(const SkyImages& sky);
+
+// One frame's part of each (frame f of sky, whose sun find_suns found: `sun`), for a stack read one
+// frame at a time: unreadable_sky is the sum of the frames' shares over the frame count, and
+// ring_anisotropy the mean of the frames' spreads that are not nullopt (0 if none).
+UnreadableSky unreadable_share(const SkyImages& sky, std::size_t f, const std::optional<Eigen::Vector3d>& sun);
+std::optional<double> ring_spread(const SkyImages& sky, std::size_t f, const std::optional<Eigen::Vector3d>& sun);
 
 }  // namespace skypol::skypole

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -31,36 +32,30 @@ struct SharedWork {
   SharedWork(const stack::Stack& stack, const InputOptions& input) : whole(stack, input) {}
   StackSky whole;
   std::optional<double> misfit;         // rayleigh_law_misfit of the whole stack
+  std::function<double()> measure_misfit;  // how, when not that (SkyReadings::misfit)
   std::optional<UnreadableSky> unread;  // unreadable_sky of its sky
+  std::optional<double> ring;           // ring_anisotropy of its sky
 };
 
-// run_method of one method on `work`'s stack.
-PoleEstimate run_with(SharedWork& work, const Method& method, ClassicImages* classic_images) {
+// run_method's steps after the method's own run, `run`, on `work`'s stack.
+PoleEstimate finish_run(SharedWork& work, const Method& method, MethodRun run,
+                        std::chrono::steady_clock::time_point t0) {
   const StackSky& whole = work.whole;
   const stack::Stack& stack = whole.stack();
   const InputOptions& input = whole.input();
   const MethodTraits& traits = method.traits;
-  const auto t0 = std::chrono::steady_clock::now();
-  check_site(method, stack, input);
-  // The method's answer, with what its jackknives refit from its own work (method_registry.h
-  // MethodRun); the refits it does not give rerun its bare run on a view of the stack.
-  MethodRun run;
-  if (method.run)
-    run = method.run(whole, classic_images);
-  else
-    run.estimate = method.bare(SkyView(whole));
   PoleEstimate e = std::move(run.estimate);
   if (!e.valid) return e;
   // A sky far from Rayleigh's law bends what the methods that read its shape find, alike in every
   // frame and sector (method_registry.h misfit_measured; each entry says why): measured once per
   // stack for their gates and σ terms.
   if (traits.misfit_measured) {
-    if (!work.misfit) work.misfit = rayleigh_law_misfit(SkyView(whole));
+    if (!work.misfit) work.misfit = work.measure_misfit ? work.measure_misfit() : rayleigh_law_misfit(SkyView(whole));
     e.model_misfit = *work.misfit;
   }
   const MethodCalibration& cal = method.calibration;
   std::optional<UnreadableSky>& unread = work.unread;  // the sky's unpolarized and clipped shares, once measured
-  apply_calibration_gates(e, cal, whole, unread);
+  apply_calibration_gates(e, cal, whole, unread, work.ring);
   if (!e.valid) return e;
   const int frame_count = static_cast<int>(stack.frames.size());
   const int max_groups = traits.frame_jackknife_max_groups;
@@ -107,6 +102,21 @@ PoleEstimate run_with(SharedWork& work, const Method& method, ClassicImages* cla
   return e;
 }
 
+// run_method of one method on `work`'s stack.
+PoleEstimate run_with(SharedWork& work, const Method& method, ClassicImages* classic_images) {
+  const StackSky& whole = work.whole;
+  const auto t0 = std::chrono::steady_clock::now();
+  check_site(method, whole.stack(), whole.input());
+  // The method's answer, with what its jackknives refit from its own work (method_registry.h
+  // MethodRun); the refits it does not give rerun its bare run on a view of the stack.
+  MethodRun run;
+  if (method.run)
+    run = method.run(whole, classic_images);
+  else
+    run.estimate = method.bare(SkyView(whole));
+  return finish_run(work, method, std::move(run), t0);
+}
+
 // auto: every method it weighs, on one SharedWork (a method that throws is a declined answer),
 // then their combination.
 PoleEstimate run_auto(const stack::Stack& stack, const InputOptions& input) {
@@ -136,6 +146,16 @@ PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
   const Method& m = method_entry(method);
   SharedWork work(stack, input);
   return run_with(work, m, classic_images);
+}
+
+PoleEstimate finish_method_run(const stack::Stack& stack, const Method& method, const InputOptions& input,
+                               MethodRun run, SkyReadings readings, std::chrono::steady_clock::time_point started) {
+  SharedWork work(stack, input);
+  work.measure_misfit = std::move(readings.misfit);
+  work.unread = readings.unread;
+  work.ring = readings.ring_anisotropy;
+  check_site(method, stack, input);
+  return finish_run(work, method, std::move(run), started);
 }
 
 PoleEstimate run_or_combine(const stack::Stack& stack, std::string_view method, const InputOptions& input,

@@ -6,6 +6,9 @@
 // tables (evaluate_tables.h).
 #pragma once
 
+#include <chrono>
+#include <functional>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -44,6 +47,23 @@ namespace skypol::skypole {
 // classic_images (method "classic" only): filled with classic's step images, from the same run.
 PoleEstimate run_method(const stack::Stack& stack, std::string_view method,
                         const InputOptions& input = {}, ClassicImages* classic_images = nullptr);
+
+// What run_method measures of a stack's sky for a method's gates and σ terms, given by a caller
+// that measured it itself (a stack read frame by frame: classic_stream.h): the Rayleigh-law
+// misfit, asked for only when the answer needs it (rayleigh_law_misfit), the unreadable shares
+// (unreadable_sky) and the ring anisotropy (ring_anisotropy). What is missing is measured from
+// the stack, as run_method would.
+struct SkyReadings {
+  std::function<double()> misfit;
+  std::optional<UnreadableSky> unread;
+  std::optional<double> ring_anisotropy;
+};
+// run_method's steps after the method's own run: the misfit, the gates, the jackknives (from
+// run.without_frames and run.without_sector) and the calibrated uncertainty, for a caller that ran
+// the method itself, on `stack`, whose frames need hold no channel when `readings` and `run` have
+// all the gates and jackknives read. `started`: when the run began (PoleEstimate::seconds).
+PoleEstimate finish_method_run(const stack::Stack& stack, const Method& method, const InputOptions& input,
+                               MethodRun run, SkyReadings readings, std::chrono::steady_clock::time_point started);
 
 // run_method, but for "auto" when `done` already holds an answer of every method auto weighs:
 // combine_estimates of them, running nothing again (`-m all`, evaluate, the studies).

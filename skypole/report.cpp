@@ -18,6 +18,7 @@
 #include "stack/stack_io.h"
 #include "stack/temp_files.h"
 #include "skypole/classic.h"
+#include "skypole/classic_stream.h"
 #include "skypole/estimate_plot.h"
 #include "skypole/evaluate.h"
 #include "skypole/sky_images.h"
@@ -212,9 +213,35 @@ void print_estimate(const EstimateRequest& r) {
     throw std::invalid_argument("--intermediates: only the classic method has intermediate images");
   }
   const ProcessUsage start = process_usage();
-  const stack::Stack stack = stack::read_stack(r.path, estimator_channels(r.path, r.input));
+  // classic alone, without its images or a plot, reads the stack part by part (classic_stream.h): a
+  // day of full-resolution frames does not fit in memory as floats. Profiled, its "read" line is a
+  // pass that only decodes the channels the estimators read, one part at a time, so that the
+  // method's line is what it costs beside that decode.
+  const bool streamed = methods == std::vector<std::string>{"classic"} && r.intermediates.empty() && r.plot.empty();
+  std::optional<PoleEstimate> streamed_estimate;
+  stack::Stack stack;
+  if (!streamed) stack = stack::read_stack(r.path, estimator_channels(r.path, r.input));
+  else if (r.profile) (void)stack::read_stack_frames(r.path, estimator_channels(r.path, r.input), [](std::size_t, stack::Frame&&) {});
   ProcessUsage last = process_usage();
   if (r.profile) std::fprintf(stderr, "%s\n", profile_line("read", start, last).c_str());
+  if (streamed) {
+    try {
+      StreamedEstimate s = run_classic_streamed(r.path, r.input);
+      stack = std::move(s.stack);
+      streamed_estimate = std::move(s.estimate);
+    } catch (const std::invalid_argument& err) {
+      // Declined: the frames' truths and sizes for the report, from their headers and one channel.
+      const std::vector<std::string> channels = stack::peek_stack(r.path).channels;
+      std::vector<stack::Frame> frames;
+      stack = stack::read_stack_frames(r.path, {channels.begin(), channels.begin() + (channels.empty() ? 0 : 1)},
+                                       [&](std::size_t, stack::Frame&& f) {
+        f.channels.clear();
+        frames.push_back(std::move(f));
+      });
+      stack.frames = std::move(frames);
+      streamed_estimate = invalid_estimate("classic", err.what());
+    }
+  }
   if (stack.frames.empty()) throw std::invalid_argument(r.path + ": the stack has no frames");
   if (!r.json) {
     std::printf("stack    %s (%zu frames, %dx%d)%s\n", r.path.c_str(), stack.frames.size(), stack.frames[0].width,
@@ -226,7 +253,9 @@ void print_estimate(const EstimateRequest& r) {
   for (std::size_t i = 0; i < methods.size(); ++i) {
     if (r.progress) r.progress(i, methods.size());
     PoleEstimate e;
-    if (!r.intermediates.empty()) {
+    if (streamed_estimate) {
+      e = *streamed_estimate;
+    } else if (!r.intermediates.empty()) {
       // One run gives the images and the answer, with the same uncertainty and bound as every
       // other route (run_method).
       ClassicImages images;

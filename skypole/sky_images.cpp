@@ -88,71 +88,80 @@ void check_min_frames(std::size_t frames, std::size_t min_frames, const std::str
 
 }  // namespace
 
-SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options, std::size_t min_frames,
-                          std::string_view method) {
-  const std::string m(method);
+namespace {
+
+// The checks of the stack as a whole, before any frame is read (prepare_sky_images' order).
+void check_stack(const stack::Stack& stack, std::size_t frames, std::size_t min_frames, const InputOptions& options,
+                 const std::string& m) {
   if (!stack.camera)
     throw std::invalid_argument(m + ": the stack has no camera (the lens model is needed to turn "
                                     "pixels into directions)");
-  check_min_frames(stack.frames.size(), min_frames, m);
+  check_min_frames(frames, min_frames, m);
   if (!(options.min_elevation_deg > -90 && options.min_elevation_deg < 90))
     throw std::invalid_argument(m + ": min_elevation_deg must be in (−90, 90), got " +
                                 std::to_string(options.min_elevation_deg));
+}
 
-  SkyFrames out;
-  out.stack = &stack;
-  out.options = options;
-  SkyImages& sky = out.geometry;
-  sky = sky_geometry(stack, options);
+// The sky's geometry and band, from the stack's camera and its first frame.
+SkyImages geometry_and_band(const stack::Stack& stack, const stack::Frame& first, const InputOptions& options,
+                            const std::string& m) {
+  SkyImages sky = sky_geometry(*stack.camera, first.truth, options);
   if (sky.width <= 0 || sky.height <= 0)
     throw std::invalid_argument(m + ": the camera has an empty image (" + std::to_string(sky.width) +
                                 "×" + std::to_string(sky.height) + ")");
   std::vector<std::string> channels;
-  for (const auto& [name, data] : stack.frames.front().channels) channels.push_back(name);
+  for (const auto& [name, data] : first.channels) channels.push_back(name);
   sky.band = pick_band(stack.bands, channels, options);
+  return sky;
+}
+
+// Frame k checked (size, DoLP and mask channels, time order after `previous`, if any) and its
+// usable pixels (finite DoLP, not masked) and clipped ones (left empty without a "clipped" channel).
+void read_frame(const stack::Frame& f, std::size_t k, const stack::Frame* previous, const SkyImages& sky,
+                const std::string& m, std::vector<std::uint8_t>& usable, std::vector<std::uint8_t>& clipped) {
   const std::string dolp_name = "DoLP." + sky.band;
   const std::size_t n = sky.pixels();
-
-  std::vector<std::uint8_t> any(n, 0);  // usable in some frame
-  for (std::size_t k = 0; k < stack.frames.size(); ++k) {
-    const stack::Frame& f = stack.frames[k];
-    if (f.width != sky.width || f.height != sky.height)
-      throw std::invalid_argument(m + ": " + frame_label(f, k) + " is " + std::to_string(f.width) +
-                                  "×" + std::to_string(f.height) + ", the camera is " +
-                                  std::to_string(sky.width) + "×" + std::to_string(sky.height));
-    const std::vector<float>* d = find_channel(f, dolp_name);
-    if (!d)
-      throw std::invalid_argument(m + ": " + frame_label(f, k) + " has no \"" + dolp_name +
-                                  "\" channel (channels: " + channel_list(f) + ")");
-    if (d->size() != n)
-      throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"" + dolp_name +
-                                  "\" has " + std::to_string(d->size()) + " values, expected " +
-                                  std::to_string(n));
-    const std::vector<float>* mask = find_channel(f, "mask");
-    if (mask && mask->size() != n)
-      throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"mask\" has " +
-                                  std::to_string(mask->size()) + " values, expected " +
-                                  std::to_string(n));
-    std::vector<std::uint8_t>& usable = out.usable.emplace_back(n, 1);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite((*d)[i])) usable[i] = 0;
-      if (mask && !((*mask)[i] > 0.5f)) usable[i] = 0;
-      any[i] |= usable[i];
-    }
-    std::vector<std::uint8_t>& clipped = out.clipped.emplace_back();
-    if (const std::vector<float>* c = find_channel(f, "clipped"); c && c->size() == n) {
-      clipped.resize(n, 0);
-      for (std::size_t i = 0; i < n; ++i)
-        if ((*c)[i] > 0.5f) clipped[i] = 1;
-    }
-    if (k > 0 && f.truth.time < stack.frames[k - 1].truth.time)
-      throw std::invalid_argument(m + ": frames must be in time order; " + frame_label(f, k) +
-                                  " is earlier than frame " + std::to_string(k - 1));
+  if (f.width != sky.width || f.height != sky.height)
+    throw std::invalid_argument(m + ": " + frame_label(f, k) + " is " + std::to_string(f.width) +
+                                "×" + std::to_string(f.height) + ", the camera is " +
+                                std::to_string(sky.width) + "×" + std::to_string(sky.height));
+  const std::vector<float>* d = find_channel(f, dolp_name);
+  if (!d)
+    throw std::invalid_argument(m + ": " + frame_label(f, k) + " has no \"" + dolp_name +
+                                "\" channel (channels: " + channel_list(f) + ")");
+  if (d->size() != n)
+    throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"" + dolp_name +
+                                "\" has " + std::to_string(d->size()) + " values, expected " +
+                                std::to_string(n));
+  const std::vector<float>* mask = find_channel(f, "mask");
+  if (mask && mask->size() != n)
+    throw std::invalid_argument(m + ": " + frame_label(f, k) + " channel \"mask\" has " +
+                                std::to_string(mask->size()) + " values, expected " +
+                                std::to_string(n));
+  usable.assign(n, 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite((*d)[i])) usable[i] = 0;
+    if (mask && !((*mask)[i] > 0.5f)) usable[i] = 0;
   }
+  clipped.clear();
+  if (const std::vector<float>* c = find_channel(f, "clipped"); c && c->size() == n) {
+    clipped.resize(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if ((*c)[i] > 0.5f) clipped[i] = 1;
+  }
+  if (previous && f.truth.time < previous->truth.time)
+    throw std::invalid_argument(m + ": frames must be in time order; " + frame_label(f, k) +
+                                " is earlier than frame " + std::to_string(k - 1));
+}
 
+// The unit ray of each pixel usable in some frame (any[i]) where it is above the elevation limit
+// (else zero), and 1 in `sky_out` there.
+void usable_rays(const std::vector<std::uint8_t>& any, const SkyImages& sky, const InputOptions& options,
+                 std::vector<Eigen::Vector3f>& ray, std::vector<std::uint8_t>& sky_out) {
+  const std::size_t n = sky.pixels();
   const double min_z = std::sin(options.min_elevation_deg * kRadPerDeg);
-  out.ray.assign(n, Eigen::Vector3f::Zero());
-  out.sky.assign(n, 0);
+  ray.assign(n, Eigen::Vector3f::Zero());
+  sky_out.assign(n, 0);
   tbb::parallel_for(0, sky.height, [&](int y) {
     for (int x = 0; x < sky.width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) +
@@ -160,10 +169,74 @@ SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options
       if (!any[i]) continue;
       const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
       if (!r || (sky.level_from_camera * *r).z() < min_z) continue;
-      out.ray[i] = r->normalized().cast<float>();
-      out.sky[i] = 1;
+      ray[i] = r->normalized().cast<float>();
+      sky_out[i] = 1;
     }
   });
+}
+
+// sky_of's last step: `sky` holds its valid pixels (usable in every frame kept, not left out) and
+// its frames' times; its rays, valid count and clipped rays follow from the stack's rays
+// (usable_rays) and the pixels clipped in some frame kept (empty: none). Throws when no sky is left.
+void finish_sky(SkyImages& sky, const std::vector<std::uint8_t>& clipped, const std::vector<Eigen::Vector3f>& ray,
+                const std::vector<std::uint8_t>& sky_flag, const InputOptions& options, const std::string& m) {
+  const std::size_t n = sky.pixels();
+  sky.ray_camera.assign(n, Eigen::Vector3f::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!sky.valid[i]) continue;
+    if (!sky_flag[i]) {
+      sky.valid[i] = 0;
+      continue;
+    }
+    sky.ray_camera[i] = ray[i];
+    ++sky.valid_count;
+  }
+  // The clipped sky, in pixel order, above the same elevation: no method reads it (it is not
+  // valid), but the cloud gate counts it as sky it could not read (cloud_share.h).
+  const double min_z = std::sin(options.min_elevation_deg * kRadPerDeg);
+  for (std::size_t i = 0; i < clipped.size(); ++i) {
+    if (!clipped[i] || sky.valid[i]) continue;
+    const int x = static_cast<int>(i % static_cast<std::size_t>(sky.width));
+    const int y = static_cast<int>(i / static_cast<std::size_t>(sky.width));
+    const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
+    if (r && (sky.level_from_camera * *r).z() >= min_z) sky.clipped_rays.push_back(r->normalized().cast<float>());
+  }
+  if (sky.valid_count == 0 && !sky.clipped_rays.empty())
+    throw std::invalid_argument(m + ": the sensor clipped the sky: no sky pixel above " +
+                                std::to_string(options.min_elevation_deg) +
+                                "° elevation escapes clipping in every frame (channel \"clipped\"); a shorter "
+                                "exposure or a lower gain reads it");
+  if (sky.valid_count == 0)
+    throw std::invalid_argument(m + ": no pixel sees sky above " + std::to_string(options.min_elevation_deg) +
+                                "° elevation (check the mask channel, the lens and the tilt)");
+}
+
+// Frames' times as sky_of sets them: seconds since the first, and whether they differ.
+void set_times(SkyImages& sky, const std::vector<double>& unix_seconds) {
+  const double t0 = unix_seconds.front();
+  sky.times_known = unix_seconds.back() != t0;
+  for (const double t : unix_seconds) sky.times_s.push_back(t - t0);
+}
+
+}  // namespace
+
+SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options, std::size_t min_frames,
+                          std::string_view method) {
+  const std::string m(method);
+  check_stack(stack, stack.frames.size(), min_frames, options, m);
+  SkyFrames out;
+  out.stack = &stack;
+  out.options = options;
+  out.geometry = geometry_and_band(stack, stack.frames.front(), options, m);
+  const SkyImages& sky = out.geometry;
+  std::vector<std::uint8_t> any(sky.pixels(), 0);  // usable in some frame
+  for (std::size_t k = 0; k < stack.frames.size(); ++k) {
+    std::vector<std::uint8_t>& usable = out.usable.emplace_back();
+    read_frame(stack.frames[k], k, k > 0 ? &stack.frames[k - 1] : nullptr, sky, m, usable,
+               out.clipped.emplace_back());
+    for (std::size_t i = 0; i < usable.size(); ++i) any[i] |= usable[i];
+  }
+  usable_rays(any, sky, options, out.ray, out.sky);
   return out;
 }
 
@@ -180,6 +253,7 @@ SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
   const std::size_t n = sky.pixels();
   sky.valid.assign(n, 1);
   std::vector<std::uint8_t> clipped;  // 1: a sky pixel the sensor masked for clipping, in some frame
+  std::vector<double> times;
   for (const std::size_t k : kept) {
     const std::vector<std::uint8_t>& usable = frames.usable[k];
     for (std::size_t i = 0; i < n; ++i) sky.valid[i] &= usable[i];
@@ -188,44 +262,59 @@ SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
       for (std::size_t i = 0; i < n; ++i) clipped[i] |= c[i];
     }
     sky.dolp.push_back(stack.frames[k].channels.at("DoLP." + sky.band));  // borrowed
+    times.push_back(stack.frames[k].truth.time.unix_seconds);
   }
   if (left_out)
     for (std::size_t i = 0; i < n; ++i)
       if ((*left_out)[i]) sky.valid[i] = 0;
+  set_times(sky, times);
+  finish_sky(sky, clipped, frames.ray, frames.sky, frames.options, m);
+  return sky;
+}
 
-  const double t0 = stack.frames[kept.front()].truth.time.unix_seconds;
-  sky.times_known = stack.frames[kept.back()].truth.time.unix_seconds != t0;
-  for (const std::size_t k : kept) sky.times_s.push_back(stack.frames[k].truth.time.unix_seconds - t0);
+WholeSkyReader::WholeSkyReader(const stack::Stack& stack, std::size_t frames, const InputOptions& options,
+                               std::size_t min_frames, std::string_view method)
+    : stack_(&stack), options_(options), method_(method), frames_(frames) {
+  check_stack(stack, frames, min_frames, options, method_);
+}
 
-  sky.ray_camera.assign(n, Eigen::Vector3f::Zero());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!sky.valid[i]) continue;
-    if (!frames.sky[i]) {
-      sky.valid[i] = 0;
-      continue;
-    }
-    sky.ray_camera[i] = frames.ray[i];
-    ++sky.valid_count;
+void WholeSkyReader::add(const stack::Frame& frame) {
+  const std::size_t k = read_;
+  if (k == 0) {
+    geometry_ = geometry_and_band(*stack_, frame, options_, method_);
+    valid_.assign(geometry_.pixels(), 1);
+    any_.assign(geometry_.pixels(), 0);
   }
-  // The clipped sky, in pixel order, above the same elevation: no method reads it (it is not
-  // valid), but the cloud gate counts it as sky it could not read (cloud_share.h).
-  const double min_z = std::sin(frames.options.min_elevation_deg * kRadPerDeg);
-  for (std::size_t i = 0; i < clipped.size(); ++i) {
-    if (!clipped[i] || sky.valid[i]) continue;
-    const int x = static_cast<int>(i % static_cast<std::size_t>(sky.width));
-    const int y = static_cast<int>(i / static_cast<std::size_t>(sky.width));
-    const auto r = sky.lens->ray(Eigen::Vector2d(x, y));
-    if (r && (sky.level_from_camera * *r).z() >= min_z) sky.clipped_rays.push_back(r->normalized().cast<float>());
+  read_frame(frame, k, k > 0 ? &previous_ : nullptr, geometry_, method_, usable_, clipped_frame_);
+  for (std::size_t i = 0; i < usable_.size(); ++i) {
+    valid_[i] &= usable_[i];
+    any_[i] |= usable_[i];
   }
-  if (sky.valid_count == 0 && !sky.clipped_rays.empty())
-    throw std::invalid_argument(m + ": the sensor clipped the sky: no sky pixel above " +
-                                std::to_string(frames.options.min_elevation_deg) +
-                                "° elevation escapes clipping in every frame (channel \"clipped\"); a shorter "
-                                "exposure or a lower gain reads it");
-  if (sky.valid_count == 0)
-    throw std::invalid_argument(m + ": no pixel sees sky above " +
-                                std::to_string(frames.options.min_elevation_deg) +
-                                "° elevation (check the mask channel, the lens and the tilt)");
+  if (!clipped_frame_.empty()) {
+    clipped_.resize(clipped_frame_.size(), 0);
+    for (std::size_t i = 0; i < clipped_frame_.size(); ++i) clipped_[i] |= clipped_frame_[i];
+  }
+  previous_.truth = frame.truth;
+  times_.push_back(frame.truth.time.unix_seconds);
+  ++read_;
+}
+
+std::size_t WholeSkyReader::bytes() const {
+  return valid_.capacity() + any_.capacity() + clipped_.capacity() + usable_.capacity() + clipped_frame_.capacity() +
+         times_.capacity() * sizeof(double);
+}
+
+SkyImages WholeSkyReader::sky() const {
+  if (read_ != frames_)
+    throw std::logic_error("WholeSkyReader: " + std::to_string(read_) + " of " + std::to_string(frames_) +
+                           " frames read");
+  SkyImages sky = geometry_;
+  sky.valid = valid_;
+  set_times(sky, times_);
+  std::vector<Eigen::Vector3f> ray;
+  std::vector<std::uint8_t> sky_flag;
+  usable_rays(any_, sky, options_, ray, sky_flag);
+  finish_sky(sky, clipped_, ray, sky_flag, options_, method_);
   return sky;
 }
 
@@ -499,12 +588,15 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
 }
 
 SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options) {
+  return sky_geometry(*stack.camera, stack.frames.front().truth, options);
+}
+
+SkyImages sky_geometry(const camera::Camera& camera, const scene::Truth& first, const InputOptions& options) {
   SkyImages sky;
-  sky.lens = &stack.camera->lens();
-  sky.width = stack.camera->width();
-  sky.height = stack.camera->height();
-  const Attitude att = options.attitude.value_or(
-      Attitude{stack.frames.front().truth.tilt_deg, stack.frames.front().truth.roll_deg});
+  sky.lens = &camera.lens();
+  sky.width = camera.width();
+  sky.height = camera.height();
+  const Attitude att = options.attitude.value_or(Attitude{first.tilt_deg, first.roll_deg});
   sky.level_from_camera = camera::world_from_heading_tilt_roll(0.0, att.tilt_deg, att.roll_deg);
   sky.min_elevation_deg = options.min_elevation_deg;
   return sky;

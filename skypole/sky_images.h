@@ -111,6 +111,34 @@ SkyFrames read_sky_frames(const stack::Stack& stack, const InputOptions& options
 SkyImages sky_of(const SkyFrames& frames, const std::vector<std::uint8_t>* keep,
                  const std::vector<std::uint8_t>* left_out, std::size_t min_frames, std::string_view method);
 
+// read_sky_frames and sky_of of every frame (no keep, no left_out) for a stack read one frame at a
+// time (stack/stack_io.h read_stack_frames), whose frames are never all in memory: each frame is
+// checked as it comes and its usable and clipped pixels folded into the whole sky's, so that what
+// it keeps is a few images whatever the number of frames. Throws what those would, in their order.
+class WholeSkyReader {
+ public:
+  // `stack`: the stack's shared facts (camera, bands; it must outlive this and the sky), without
+  // its frames, of which there are `frames`.
+  WholeSkyReader(const stack::Stack& stack, std::size_t frames, const InputOptions& options, std::size_t min_frames,
+                 std::string_view method);
+  // The next frame (in order).
+  void add(const stack::Frame& frame);
+  // After every frame: sky_of(read_sky_frames(…), nullptr, nullptr, …) without the frames' DoLP
+  // (frames() == 0; times_s and times_known are set).
+  SkyImages sky() const;
+  std::size_t bytes() const;  // what it keeps between frames
+
+ private:
+  const stack::Stack* stack_;
+  InputOptions options_;
+  std::string method_;
+  std::size_t frames_ = 0, read_ = 0;
+  SkyImages geometry_;
+  stack::Frame previous_;  // the last frame's truth (time order)
+  std::vector<std::uint8_t> valid_, any_, clipped_, usable_, clipped_frame_;
+  std::vector<double> times_;
+};
+
 // The "AoLP.<band>" channel of each frame (not copied: they live in the frames); throws
 // std::invalid_argument naming the frame when one lacks it or has the wrong size.
 std::vector<const std::vector<float>*> aolp_channels(const FrameRefs& frames, const SkyImages& sky,
@@ -189,6 +217,8 @@ HemisphereDecision decide_hemisphere(const std::vector<std::optional<Eigen::Vect
 // stack's tilt and roll, or options.attitude; estimate.h) — what prepare_sky_images starts from and
 // make_estimate reads.
 SkyImages sky_geometry(const stack::Stack& stack, const InputOptions& options);
+// The same from the camera and the first frame's truth.
+SkyImages sky_geometry(const camera::Camera& camera, const scene::Truth& first, const InputOptions& options);
 
 // Why pixel (x, y) is not usable sky, for a decline that has to say what its answer ran into:
 // the edge of the field of view (outside the image, beyond the image circle, or looking below

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -130,6 +131,25 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
   return out;
 }
 
+namespace {
+
+constexpr std::uint8_t kBad = SkyJudgments::kLow | SkyJudgments::kAolp | SkyJudgments::kSat | SkyJudgments::kDark;
+
+// Pixel i's verdict from its frames' judgments: judged by `judged` frames, bad in b of them, for
+// the causes `any`.
+void verdict(SkyMask& out, std::size_t i, int judged, int b, std::uint8_t any, const SkyMaskParams& p) {
+  out.low_dolp += (any & SkyJudgments::kLow) ? 1 : 0;
+  out.wrong_aolp += (any & SkyJudgments::kAolp) ? 1 : 0;
+  out.saturated += (any & SkyJudgments::kSat) ? 1 : 0;
+  out.dark += (any & SkyJudgments::kDark) ? 1 : 0;
+  if (b > 0 && b >= p.bad_share * judged) {
+    out.masked[i] = 1;
+    ++out.masked_count;
+  }
+}
+
+}  // namespace
+
 SkyMask mask_from_judgments(const SkyImages& sky, const SkyJudgments& j, const SkyMaskParams& p,
                             const std::vector<std::uint8_t>* keep) {
   SkyMask out;
@@ -141,7 +161,6 @@ SkyMask mask_from_judgments(const SkyImages& sky, const SkyJudgments& j, const S
       frames.push_back(f);
       out.suns.push_back(j.suns[f]);
     }
-  constexpr std::uint8_t kBad = SkyJudgments::kLow | SkyJudgments::kAolp | SkyJudgments::kSat | SkyJudgments::kDark;
   for (std::size_t i = 0; i < n; ++i) {
     if (!sky.valid[i]) continue;
     int judged = 0, b = 0;
@@ -152,16 +171,39 @@ SkyMask mask_from_judgments(const SkyImages& sky, const SkyJudgments& j, const S
       b += why ? 1 : 0;
       any |= why;
     }
-    out.low_dolp += (any & SkyJudgments::kLow) ? 1 : 0;
-    out.wrong_aolp += (any & SkyJudgments::kAolp) ? 1 : 0;
-    out.saturated += (any & SkyJudgments::kSat) ? 1 : 0;
-    out.dark += (any & SkyJudgments::kDark) ? 1 : 0;
-    if (b > 0 && b >= p.bad_share * judged) {
-      out.masked[i] = 1;
-      ++out.masked_count;
-    }
+    verdict(out, i, judged, b, any, p);
   }
   return out;
+}
+
+JudgmentTally::JudgmentTally(std::size_t pixels) : judged_(pixels, 0), bad_(pixels, 0), any_(pixels, 0) {}
+
+void JudgmentTally::add(const SkyJudgments& one) {
+  if (one.marks.size() != 1 || one.marks[0].size() != any_.size())
+    throw std::logic_error("JudgmentTally: one frame's judgments of the same sky expected");
+  if (suns_.size() >= 0xffff) throw std::length_error("JudgmentTally: more than 65534 frames");
+  const std::vector<std::uint8_t>& mark = one.marks[0];
+  for (std::size_t i = 0; i < mark.size(); ++i) {
+    const std::uint8_t why = mark[i] & kBad;
+    judged_[i] = static_cast<std::uint16_t>(judged_[i] + ((mark[i] & SkyJudgments::kJudged) ? 1 : 0));
+    bad_[i] = static_cast<std::uint16_t>(bad_[i] + (why ? 1 : 0));
+    any_[i] |= why;
+  }
+  suns_.push_back(one.suns[0]);
+}
+
+SkyMask JudgmentTally::mask(const SkyImages& sky, const SkyMaskParams& p) const {
+  SkyMask out;
+  const std::size_t n = sky.pixels();
+  out.masked.assign(n, 0);
+  out.suns = suns_;
+  for (std::size_t i = 0; i < n; ++i)
+    if (sky.valid[i]) verdict(out, i, judged_[i], bad_[i], any_[i], p);
+  return out;
+}
+
+std::size_t JudgmentTally::bytes() const {
+  return judged_.capacity() * 2 + bad_.capacity() * 2 + any_.capacity() + suns_.capacity() * sizeof(suns_[0]);
 }
 
 SkyMask compute_sky_mask(const SkyImages& sky, const stack::Stack& stack, const SkyMaskParams& p) {

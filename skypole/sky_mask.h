@@ -77,6 +77,23 @@ std::pair<bool, bool> aolp_and_s0(const SkyImages& sky, const FrameRefs& frames)
 SkyMask mask_from_judgments(const SkyImages& sky, const SkyJudgments& j, const SkyMaskParams& p = {},
                             const std::vector<std::uint8_t>* keep = nullptr);
 
+// mask_from_judgments of every frame of a stack read one frame at a time: each frame's judgments
+// (judge_sky of that frame alone on the whole stack's sky: a frame's judgments do not depend on the
+// others) are folded, as they come, into per-pixel counts, so that it keeps 5 bytes per pixel
+// whatever the number of frames; mask() is then mask_from_judgments of them all.
+class JudgmentTally {
+ public:
+  explicit JudgmentTally(std::size_t pixels);
+  void add(const SkyJudgments& one_frame);
+  SkyMask mask(const SkyImages& sky, const SkyMaskParams& p = {}) const;
+  std::size_t bytes() const;
+
+ private:
+  std::vector<std::uint16_t> judged_, bad_;  // per pixel: the frames that judged it, found it bad
+  std::vector<std::uint8_t> any_;            // per pixel: the causes seen
+  std::vector<std::optional<Eigen::Vector3d>> suns_;
+};
+
 // judge_sky of every frame, then mask_from_judgments.
 SkyMask compute_sky_mask(const SkyImages& sky, const stack::Stack& stack, const SkyMaskParams& p = {});
 

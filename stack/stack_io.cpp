@@ -562,12 +562,18 @@ double write_stack_banded(const std::string& path, const std::vector<scene::Trut
 
 Stack read_stack_frames(const std::string& path, const std::vector<std::string>& only_channels,
                         const std::function<void(std::size_t, Frame&&)>& each) {
+  return read_stack_frames(path, only_channels, nullptr, each);
+}
+
+Stack read_stack_frames(const std::string& path, const std::vector<std::string>& only_channels,
+                        const std::function<void(const Stack&)>& facts,
+                        const std::function<void(std::size_t, Frame&&)>& each) {
   use_all_cores_for_exr();
   Stack stack;
   std::exception_ptr callers;  // what `each` threw: passed on as it is, not as a read error
   try {
     Imf::MultiPartInputFile file(path.c_str());
-    const int parts = file.parts();
+    int parts = file.parts();
     if (parts < 1) throw scene::SceneError(scene::FileLoc{path, 0, 0}, "the file has no parts");
     const Imf::Header& h0 = file.header(0);
     stack.camera_description = need<Imf::StringAttribute>(h0, "skypol:camera", path, 0).value();
@@ -577,6 +583,14 @@ Stack read_stack_frames(const std::string& path, const std::vector<std::string>&
     const Known known = known_of(h0);
     stack.truth_known = known.truth;
     stack.site_known = known.site;
+    if (facts) {
+      try {
+        facts(stack);
+      } catch (...) {
+        callers = std::current_exception();
+        parts = 0;
+      }
+    }
     for (int i = 0; i < parts; ++i) {
       const Imf::Header& h = file.header(i);
       Frame frame;
@@ -625,9 +639,15 @@ Stack read_stack_frames(const std::string& path, const std::vector<std::string>&
                          static_cast<std::ptrdiff_t>(sizeof(float));
         fb.insert(c, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * static_cast<std::size_t>(frame.width)));
       }
-      Imf::InputPart part(file, i);
-      part.setFrameBuffer(fb);
-      part.readPixels(dw.min.y, dw.max.y);
+      {
+        Imf::InputPart part(file, i);
+        part.setFrameBuffer(fb);
+        part.readPixels(dw.min.y, dw.max.y);
+      }
+      // OpenEXR keeps each part it opened, with its line buffers, until the file closes: some
+      // megabytes a part at full resolution, which a stack read part by part would hold for every
+      // part. Let it go.
+      file.flushPartCache();
       try {
         each(static_cast<std::size_t>(i), std::move(frame));
       } catch (...) {

@@ -105,6 +105,12 @@ Stack read_stack(const std::string& path, const std::vector<std::string>& only_c
 // facts (camera, bands, scene, what is known) without frames. What `each` throws is passed on.
 Stack read_stack_frames(const std::string& path, const std::vector<std::string>& only_channels,
                         const std::function<void(std::size_t, Frame&&)>& each);
+// The same, with facts(stack) called once before the first frame with the stack's shared facts
+// (camera, bands, scene, what is known; no frames), which the caller may keep: what reads the
+// frames as they come may need the camera.
+Stack read_stack_frames(const std::string& path, const std::vector<std::string>& only_channels,
+                        const std::function<void(const Stack&)>& facts,
+                        const std::function<void(std::size_t, Frame&&)>& each);
 
 // The channel names and bands of a stack, from its first header (no pixels read).
 struct StackSummary {
