@@ -132,7 +132,8 @@ TEST_CASE("classic streamed from the file is run_method's classic on the stack r
           "[skypole][classic][stream]") {
   // A clear day; a cloudy one (the sky mask at work; the ring-anisotropy gate declines it); one
   // through a sensor (noise); a short window, which classic itself declines; the cloudy day without
-  // the sky mask (the misfit gate declines it).
+  // the sky mask (the misfit gate declines it); a sensor whose polarizers are off their angles (the
+  // sky mask's sun fits model them, skypole/sun_vector.h).
   struct Case {
     std::string name, text;
     skypole::InputOptions input;
@@ -147,6 +148,7 @@ TEST_CASE("classic streamed from the file is run_method's classic on the stack r
       {"sensor", scene_text(20, "2022-09-23T16:00:00Z", sensor), {}},
       {"short", scene_text(10, "2022-09-23T09:00:00Z"), {}},
       {"unmasked", scene_text(30, "2022-09-23T16:00:00Z", cloudy), no_mask},
+      {"polarizers", scene_text(20, "2022-09-23T16:00:00Z", sensor + "angle_error_deg = [1.5, 0.8, -0.3, 1.1]\n"), {}},
   };
   int valid = 0;
   for (const Case& c : cases) {
