@@ -1,6 +1,6 @@
 // `skypol table`: the VRTE solver's I, Q, U for a molecular layer, up at the top and down at the
 // ground, in the normalisation and signs of the Coulson, Dave & Sekera (1960) tables as Natraj et
-// al. (2009) give them (sky/vrte_point.h), so that anyone can check it against published tables.
+// al. (2009) give them (sky/vrte/vrte_point.h), so that anyone can check it against published tables.
 // Argument parsing only: the numbers come from sky::vrte::coulson_table.
 #include <cmath>
 #include <cstdio>
@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "cli/commands.h"
-#include "sky/atmosphere_optics.h"
-#include "sky/vrte_point.h"
+#include "sky/vrte/atmosphere_optics.h"
+#include "sky/vrte/vrte_point.h"
 
 namespace skypol::cli {
 namespace {

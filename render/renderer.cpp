@@ -16,7 +16,7 @@
 #include "render/occlusion_pass.h"
 #include "stack/polarization_math.h"
 #include "sky/vector_clones.h"
-#include "sky/vrte_sky.h"
+#include "sky/vrte/vrte_sky.h"
 
 namespace skypol::render {
 namespace {

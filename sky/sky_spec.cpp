@@ -6,7 +6,7 @@
 #include <string>
 
 #include "sky/clouds.h"
-#include "sky/optical_depth.h"
+#include "sky/vrte/optical_depth.h"
 #include "sky/sky_model_registry.h"
 #include "sky/spec_errors.h"
 #include "sky/sun_disc.h"

@@ -15,7 +15,7 @@
 #include <variant>
 #include <vector>
 
-#include "sky/aerosol_types.h"
+#include "sky/vrte/aerosol_types.h"
 #include "sky/clouds.h"
 #include "sky/sky_model.h"
 
@@ -41,14 +41,14 @@ struct SkySpec {
   // vrte only (max_dolp, intensity and turbidity do not apply: the solver gives radiance and degree).
   AerosolSpec aerosol;                    // [sky.aerosol]; type "none": molecules only
   double ground_albedo = 0.1;             // Lambertian ground under the layer, [0, 1]
-  int streams = 12;                       // accuracy: Gauss nodes per hemisphere (vrte_table.h), [4, 64]
+  int streams = 12;                       // accuracy: Gauss nodes per hemisphere (vrte/vrte_table.h), [4, 64]
   int grid = 25;                          // table nodes in zenith angle for μ and μ0, [8, 129]
   std::vector<double> wavelengths_nm;     // one per band, nm; empty: band_wavelength_nm(band name)
   // The values of keys that a model declares without a named field above (SkyKey::param), by key.
   std::map<std::string, SkyValue, std::less<>> params;
 };
 
-// What the Rayleigh optical depth needs from the site (optical_depth.h). A scene without a pressure
+// What the Rayleigh optical depth needs from the site (vrte/optical_depth.h). A scene without a pressure
 // (refraction off) uses standard sea-level pressure: the depth needs a real pressure either way.
 struct SiteAtmosphere {
   double pressure_hpa = 1013.25;

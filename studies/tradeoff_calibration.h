@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sky/aerosol_types.h"
+#include "sky/vrte/aerosol_types.h"
 #include "sky/sun.h"
 #include "stack/frame.h"
 #include "studies/tradeoff_studies.h"

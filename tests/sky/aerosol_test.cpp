@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "sky/aerosol_types.h"
-#include "sky/mie.h"
-#include "sky/optical_depth.h"
+#include "sky/vrte/aerosol_types.h"
+#include "sky/vrte/mie.h"
+#include "sky/vrte/optical_depth.h"
 
 using namespace skypol::sky;
 

@@ -12,7 +12,7 @@
 
 #include <unistd.h>
 
-#include "sky/optical_depth.h"
+#include "sky/vrte/optical_depth.h"
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
 #include "sky/units.h"

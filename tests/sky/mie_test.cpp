@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "sky/mie.h"
+#include "sky/vrte/mie.h"
 #include "sky/units.h"
 
 using namespace skypol::sky;

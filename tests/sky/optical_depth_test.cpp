@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sky/optical_depth.h"
+#include "sky/vrte/optical_depth.h"
 
 using namespace skypol::sky;
 

@@ -2,7 +2,7 @@
 // tables as corrected by Natraj, Li & Yung (2009) (the issue's twelve values for τ = 0.5, μ0 = 0.2;
 // SASKTRAN2's albedo-0.8 values; a 504-entry sample of the authors' machine-readable tables,
 // reflected and transmitted), and Siewert's (2000) polarizing aerosol slab. Q and U are in the
-// tables' sign convention (sky/vrte_point.h says how it maps to skypol's).
+// tables' sign convention (sky/vrte/vrte_point.h says how it maps to skypol's).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -11,9 +11,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "sky/vrte_phase.h"
-#include "sky/vrte_point.h"
-#include "sky/vrte_solver.h"
+#include "sky/vrte/vrte_phase.h"
+#include "sky/vrte/vrte_point.h"
+#include "sky/vrte/vrte_solver.h"
 
 using skypol::sky::vrte::coulson_point;
 
@@ -200,7 +200,7 @@ TEST_CASE("Siewert 2000 problem IIA: a polarizing aerosol slab, reflected and tr
           "[vrte][coulson][aerosol]") {
   // The aerosol's Greek coefficients (Siewert 2000; VLIDORT's PROBLEM_IIA rows, in the order
   // alpha2, alpha1 = phase function, beta1, alpha4, beta2, alpha3), turned into the table that
-  // atmosphere_optics.h asks for with this file's d-function expansion (sky/vrte_phase.h):
+  // atmosphere_optics.h asks for with this file's d-function expansion (sky/vrte/vrte_phase.h):
   //   F11 = Σ a1 d00, F22 ± F33 = Σ (a2 ± a3) d22 / d2,−2, F44 = Σ a4 d00, F12 = −Σ b1 d02,
   //   F34 = −Σ b2 d02.
   // VLIDORT stores b1, b2 with Mishchenko's sign; the minus turns them into this convention.

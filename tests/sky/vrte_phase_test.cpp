@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
-#include "sky/vrte_phase.h"
-#include "sky/vrte_solver.h"
+#include "sky/vrte/vrte_phase.h"
+#include "sky/vrte/vrte_solver.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;

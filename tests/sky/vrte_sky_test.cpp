@@ -1,4 +1,4 @@
-// The VRTE sky (sky/vrte_sky.h) against skypol's other models and the physics of the real sky:
+// The VRTE sky (sky/vrte/vrte_sky.h) against skypol's other models and the physics of the real sky:
 // in the thin-atmosphere limit its DoLP and AoLP are the single-scattering Rayleigh pattern
 // (RayleighSky: the AoLP agreement is the test of the solver's Q/U signs); with a realistic
 // optical depth the Arago, Babinet and Brewster neutral points appear on the sun's vertical at
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "sky/rayleigh.h"
-#include "sky/vrte_sky.h"
+#include "sky/vrte/vrte_sky.h"
 #include "sky_test_util.h"
 
 using namespace skypol::sky;

@@ -1,5 +1,5 @@
 // The doubling–adding solver's invariants: a thin layer is the closed-form single scattering
-// (I, Q and U, reflected and transmitted, in the meridian basis of sky/vrte_solver.h); a
+// (I, Q and U, reflected and transmitted, in the meridian basis of sky/vrte/vrte_solver.h); a
 // conservative layer conserves flux; reflection and transmission obey reciprocity (Hovenier et
 // al. 2004, ch. 5); the mirror-image shortcut of the doubling equals the full adding.
 #include <catch2/catch.hpp>
@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "sky/units.h"
-#include "sky/vrte_solver.h"
+#include "sky/vrte/vrte_solver.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;

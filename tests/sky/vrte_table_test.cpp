@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "sky/units.h"
-#include "sky/vrte_table.h"
+#include "sky/vrte/vrte_table.h"
 
 using namespace skypol::sky;
 using namespace skypol::sky::vrte;

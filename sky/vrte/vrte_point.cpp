@@ -1,6 +1,6 @@
 // One solve with the asked-for mu and mu0 as zero-weight nodes, then the Fourier sum at Δφ and the
 // map from skypol's meridian basis to the tables' (docs/conventions.md, "VRTE").
-#include "sky/vrte_point.h"
+#include "sky/vrte/vrte_point.h"
 
 #include <cmath>
 #include <numbers>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "sky/units.h"
-#include "sky/vrte_solver.h"
+#include "sky/vrte/vrte_solver.h"
 
 namespace skypol::sky::vrte {
 

@@ -1,4 +1,4 @@
-#include "sky/mie.h"
+#include "sky/vrte/mie.h"
 
 #include <algorithm>
 #include <cmath>

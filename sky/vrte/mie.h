@@ -11,8 +11,8 @@
 #include <span>
 #include <vector>
 
-#include "sky/atmosphere_optics.h"
-#include "sky/quadrature.h"  // gauss_legendre, used with this header's tables
+#include "sky/vrte/atmosphere_optics.h"
+#include "sky/vrte/quadrature.h"  // gauss_legendre, used with this header's tables
 
 namespace skypol::sky {
 

@@ -22,7 +22,7 @@
 // Zero-weight points (the asked-for μ) take part as rows and columns but never in the
 // sums, so they cost O(n²N) per product, not O(n³). Only the I column is kept for them: the sun
 // is unpolarized.
-#include "sky/vrte_solver.h"
+#include "sky/vrte/vrte_solver.h"
 
 #include <algorithm>
 #include <atomic>

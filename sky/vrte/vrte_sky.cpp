@@ -2,7 +2,7 @@
 // horizontal direction to the view's, counter-clockwise seen from above (ENU is right-handed, so
 // this is the solver's sense). The table answers in the meridian basis e0m = e90m × d,
 // e90m = ẑ × d/|ẑ × d|; one rotate_reference-style turn takes it to the caller's e0.
-#include "sky/vrte_sky.h"
+#include "sky/vrte/vrte_sky.h"
 
 #include <algorithm>
 #include <cassert>

@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include "sky/quadrature.h"  // gauss_legendre01
-#include "sky/vrte_phase.h"
+#include "sky/vrte/quadrature.h"  // gauss_legendre01
+#include "sky/vrte/vrte_phase.h"
 
 namespace skypol::sky::vrte {
 

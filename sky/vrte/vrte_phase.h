@@ -6,7 +6,7 @@
 #include <array>
 #include <vector>
 
-#include "sky/atmosphere_optics.h"
+#include "sky/vrte/atmosphere_optics.h"
 
 namespace skypol::sky::vrte {
 

@@ -1,4 +1,4 @@
-#include "sky/optical_depth.h"
+#include "sky/vrte/optical_depth.h"
 
 #include <cmath>
 #include <numbers>

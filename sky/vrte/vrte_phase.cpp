@@ -1,7 +1,7 @@
 // Scattering matrices for the VRTE solver: Rayleigh in closed form, the aerosol through its
 // expansion in Wigner d-functions (generalized spherical functions without the phase factors; the
 // same functions expand and reconstruct, so the signs of Hovenier's P^l_{mn} do not enter).
-#include "sky/vrte_phase.h"
+#include "sky/vrte/vrte_phase.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sky/quadrature.h"
+#include "sky/vrte/quadrature.h"
 
 namespace skypol::sky::vrte {
 

@@ -1,6 +1,6 @@
 // The table: one solve on a grid in zenith angle (see grid_v) (the grid doubles as the solver's zero-weight nodes), the
 // single-scattering part taken out, cubic Lagrange interpolation in μ and μ0 through that grid, and the disk cache.
-#include "sky/vrte_table.h"
+#include "sky/vrte/vrte_table.h"
 
 #include <algorithm>
 #include <array>

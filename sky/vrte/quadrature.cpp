@@ -1,4 +1,4 @@
-#include "sky/quadrature.h"
+#include "sky/vrte/quadrature.h"
 
 #include <cmath>
 #include <cstddef>

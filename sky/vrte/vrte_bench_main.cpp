@@ -11,8 +11,8 @@
 #include <thread>
 #include <vector>
 
-#include "sky/vrte_bench.h"
-#include "sky/vrte_point.h"
+#include "sky/vrte/vrte_bench.h"
+#include "sky/vrte/vrte_point.h"
 
 namespace {
 

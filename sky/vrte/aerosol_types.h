@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "sky/atmosphere_optics.h"
-#include "sky/mie.h"
+#include "sky/vrte/atmosphere_optics.h"
+#include "sky/vrte/mie.h"
 
 namespace skypol::sky {
 

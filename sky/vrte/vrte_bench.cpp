@@ -1,6 +1,6 @@
 // The benchmark's atmospheres: a clear molecular sky and the same with a moderately forward
 // scattering aerosol (a synthetic matrix with every element non-zero, not a measured one).
-#include "sky/vrte_bench.h"
+#include "sky/vrte/vrte_bench.h"
 
 #include <algorithm>
 #include <array>
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "sky/rayleigh.h"
-#include "sky/vrte_sky.h"
+#include "sky/vrte/vrte_sky.h"
 
 namespace skypol::sky::vrte {
 

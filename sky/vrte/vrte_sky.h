@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sky/sky_model.h"
-#include "sky/vrte_table.h"
+#include "sky/vrte/vrte_table.h"
 
 namespace skypol::sky {
 

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "sky/atmosphere_optics.h"
-#include "sky/vrte_phase.h"
-#include "sky/vrte_solver.h"
+#include "sky/vrte/atmosphere_optics.h"
+#include "sky/vrte/vrte_phase.h"
+#include "sky/vrte/vrte_solver.h"
 
 namespace skypol::sky::vrte {
 

@@ -1,4 +1,4 @@
-#include "sky/aerosol_types.h"
+#include "sky/vrte/aerosol_types.h"
 
 #include <cmath>
 #include <map>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "sky/optical_depth.h"
+#include "sky/vrte/optical_depth.h"
 #include "sky/spec_errors.h"
 
 namespace skypol::sky {

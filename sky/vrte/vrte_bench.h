@@ -1,4 +1,4 @@
-// Timings of the VRTE sky for `skypol bench` and for sky/vrte_bench_main.cpp: what a band's table
+// Timings of the VRTE sky for `skypol bench` and for sky/vrte/vrte_bench_main.cpp: what a band's table
 // costs to build and what a pixel costs to look up. A program that prints figures, never a test.
 #pragma once
 

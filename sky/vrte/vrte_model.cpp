@@ -1,14 +1,14 @@
 // The vrte entry of the sky models' registry: multiple scattering by molecules and one aerosol,
-// one model per band, each over its own table (sky/vrte_sky.h, vrte_table.h) read from or
+// one model per band, each over its own table (sky/vrte/vrte_sky.h, vrte_table.h) read from or
 // written to the cache.
 #include <chrono>
 
-#include "sky/aerosol_types.h"
-#include "sky/optical_depth.h"
+#include "sky/vrte/aerosol_types.h"
+#include "sky/vrte/optical_depth.h"
 #include "sky/spec_errors.h"
 #include "sky/sky_model_registry.h"
-#include "sky/vrte_sky.h"
-#include "sky/vrte_table.h"
+#include "sky/vrte/vrte_sky.h"
+#include "sky/vrte/vrte_table.h"
 
 namespace skypol::sky {
 namespace {
