@@ -91,7 +91,7 @@ SkyJudgments judge_frame(const SkyImages& sky, const stack::Frame& frame, const 
   std::optional<FrameEVectors> e;
   if (aolp != frame.channels.end() && aolp->second.size() == sky.pixels()) {
     e.emplace(frame_e_vectors(sky, sky.dolp[0], aolp->second, camera.transport(), StackSky::kEVectorMinDolp,
-                              fits_polarizer(frame, polarizer_model)));
+                              polarizer_fit(frame, polarizer_model)));
     ev[0] = &*e;
   }
   if (!aolp_and_s0(sky, frames).first) return judge_sky(sky, frames, camera, SkyMaskParams{}, &ev, nullptr);

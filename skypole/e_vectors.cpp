@@ -38,11 +38,11 @@ EVectorTurn e_vector_turn(const Eigen::Vector3d& d, const Eigen::Vector3d& e, ca
 }
 
 FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& dolp, const std::vector<float>& aolp,
-                              camera::Transport transport, double min_dolp, bool polarizer_model) {
+                              camera::Transport transport, double min_dolp, PolarizerFit polarizer) {
   FrameEVectors out;
   out.min_dolp = min_dolp;
   out.transport = transport;
-  out.polarizer_model = polarizer_model;
+  out.polarizer = polarizer;
   // Counted first and reserved exactly: a day's frames hold some thirty bytes per sky pixel each,
   // and grown by push_back the vectors would hold up to twice that.
   const auto kept = [&](std::size_t i) { return sky.valid[i] && static_cast<double>(dolp[i]) >= min_dolp; };

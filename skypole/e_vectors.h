@@ -39,14 +39,14 @@ struct FrameEVectors {
   enum : std::uint8_t { kDefined = 1, kFiniteAolp = 2 };
   double min_dolp = 0;
   camera::Transport transport = camera::Transport::meridional;  // the camera's, which made e
-  // The AoLP sun fits on these model the sensor's polarizer angle errors (sun_vector.h;
-  // fits_polarizer, estimate.h).
-  bool polarizer_model = false;
+  // Whether the AoLP sun fits on these model the sensor's polarizer angle errors (sun_vector.h;
+  // polarizer_fit, estimate.h).
+  PolarizerFit polarizer = PolarizerFit::plain;
   std::vector<std::uint32_t> pixel;  // ascending
   std::vector<Eigen::Vector3d> e;    // e_vector there (zero where undefined)
   std::vector<std::uint8_t> flags;   // kDefined: e_vector gave one; kFiniteAolp: the AoLP is finite
 };
 FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& dolp, const std::vector<float>& aolp,
-                              camera::Transport transport, double min_dolp, bool polarizer_model);
+                              camera::Transport transport, double min_dolp, PolarizerFit polarizer);
 
 }  // namespace skypol::skypole

@@ -32,9 +32,10 @@ PolarizerModel parse_polarizer_model(std::string_view name) {
 }
 std::string_view polarizer_model_name(PolarizerModel m) { return enum_name(kPolarizerModelNames, m); }
 
-bool fits_polarizer(const stack::Frame& frame, PolarizerModel model) {
-  return model == PolarizerModel::always ||
-         (model == PolarizerModel::from_stack && frame.polarizer_angles == stack::PolarizerAngles::nominal);
+PolarizerFit polarizer_fit(const stack::Frame& frame, PolarizerModel model) {
+  const bool modelled = model == PolarizerModel::always || (model == PolarizerModel::from_stack &&
+                                                            frame.polarizer_angles == stack::PolarizerAngles::nominal);
+  return modelled ? PolarizerFit::modelled : PolarizerFit::plain;
 }
 
 double wrap180(double deg) {

@@ -35,6 +35,7 @@
 // number of an invalid estimate is meaningless and score() refuses it.
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <string>
@@ -58,8 +59,11 @@ enum class PolarizerModel { from_stack, always, never };
 // "stack" | "always" | "never"; throws std::invalid_argument listing the legal names.
 PolarizerModel parse_polarizer_model(std::string_view name);
 std::string_view polarizer_model_name(PolarizerModel m);
-// Whether the fits model the polarizers on this frame.
-bool fits_polarizer(const stack::Frame& frame, PolarizerModel model);
+// What one frame's AoLP sun fits do: the plain fit, or the fit with the polarizer model. A type of
+// its own, so that no number or flag converts to it by mistake.
+enum class PolarizerFit : std::uint8_t { plain, modelled };
+// Which of the two on this frame.
+PolarizerFit polarizer_fit(const stack::Frame& frame, PolarizerModel model);
 inline constexpr const char* kPolarizerModelHelp =
     "Fit the sensor's polarizer angle errors with each frame's sun: stack (where the stack says its AoLP assumed "
     "the polarizers' nominal angles, skypol:polarizerAngles), always, or never";

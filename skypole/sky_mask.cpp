@@ -61,7 +61,7 @@ SkyJudgments judge_sky(const SkyImages& sky, const FrameRefs& frames, const came
       out.suns[f] = cached(f) ? sun_from_aolp(sky, sky.dolp[f], *cached(f), kMinDolpForAolp)
                               : sun_from_aolp(sky, sky.dolp[f], frames[f]->channels.at(aolp_name), camera,
                                               kMinDolpForAolp,
-                                              fits_polarizer(*frames[f], PolarizerModel::from_stack));
+                                              polarizer_fit(*frames[f], PolarizerModel::from_stack));
     else if (starts[f])
       out.suns[f] = sun_from_dolp(sky, sky.dolp[f], *starts[f]);
   });

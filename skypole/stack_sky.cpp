@@ -60,7 +60,7 @@ const FrameEVectors* StackSky::e_vectors(std::size_t f) const {
   std::call_once(e_once_[f], [&] {
     e_vectors_[f].emplace(
         frame_e_vectors(sky, sky.dolp[f], it->second, stack_.camera->transport(), kEVectorMinDolp,
-                        fits_polarizer(stack_.frames[f], input_.polarizer_model)));
+                        polarizer_fit(stack_.frames[f], input_.polarizer_model)));
   });
   return &*e_vectors_[f];
 }
@@ -187,7 +187,7 @@ std::vector<std::optional<Eigen::Vector3d>> SkyView::aolp_suns(const SkyImages& 
       suns[t] = sun_from_aolp(sky, sky.dolp[t], *ev[t], min_dolp, &q[t], robust);
     else if (const std::vector<float>* a = aolp(t))
       suns[t] = sun_from_aolp(sky, sky.dolp[t], *a, *stack().camera, min_dolp,
-                              fits_polarizer(*frames_[t], source_->input().polarizer_model), &q[t], robust);
+                              polarizer_fit(*frames_[t], source_->input().polarizer_model), &q[t], robust);
   });
   if (quality) *quality = std::move(q);
   return suns;

@@ -316,7 +316,7 @@ PoleEstimate estimate_sun_azimuth(const SkyView& view, const SunAzimuthParams& p
     std::optional<FrameEVectors> own;
     if (!found.e_vectors[t])
       own = frame_e_vectors(sky, sky.dolp[t], *aolp[t], view.stack().camera->transport(), params.min_dolp,
-                            fits_polarizer(*view.frames()[t], params.input.polarizer_model));
+                            polarizer_fit(*view.frames()[t], params.input.polarizer_model));
     const FrameEVectors& ev = own ? *own : *found.e_vectors[t];
     suns[t] = symmetric_sun(sky, sky.dolp[t], ev, params.min_dolp, params.input.sky_mask, found.suns_camera[t]);
   });

@@ -211,9 +211,9 @@ std::optional<Eigen::Vector3d> sun_from_dolp(const SkyImages& sky, const std::ve
 
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
-                                             const camera::Camera& camera, double min_dolp, bool polarizer_model,
+                                             const camera::Camera& camera, double min_dolp, PolarizerFit polarizer,
                                              double* quality, bool robust) {
-  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp, polarizer_model),
+  return sun_from_aolp(sky, dolp, frame_e_vectors(sky, dolp, aolp, camera.transport(), min_dolp, polarizer),
                        min_dolp, quality, robust);
 }
 
@@ -243,7 +243,7 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
   };
   // With the polarizer model, per E-vector read: its turn ∂e/∂a and (cos 2a, sin 2a) of its sensor
   // AoLP a; floats, as the AoLP's own precision is.
-  const bool model = ev.polarizer_model;
+  const bool model = ev.polarizer == PolarizerFit::modelled;
   struct Read {
     Eigen::Vector3f turn;
     float cos2, sin2;

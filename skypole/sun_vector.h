@@ -11,8 +11,8 @@
 // camera frame from the sensor AoLP through the camera's transport (meridional: E = cos a·e0 +
 // sin a·d×e0 with e0 = camera::meridional_e0(d); projected: E ⟂ d with the sensor-plane angle a);
 // the sign with the sun above the horizon.
-// The polarizer model (FrameEVectors::polarizer_model, on frames whose AoLP assumed the polarizers'
-// nominal angles: fits_polarizer, estimate.h). A DoFP sensor whose four micro-polarizers sit ε_k
+// The polarizer model (FrameEVectors::polarizer, on frames whose AoLP assumed the polarizers'
+// nominal angles: polarizer_fit, estimate.h). A DoFP sensor whose four micro-polarizers sit ε_k
 // off their angles 0°, 45°, 90°, 135°, demosaiced as if they did not, measures
 // S1' ∝ cos(2a − A)·cos(ε0 − ε90) and S2' ∝ sin(2a − B)·cos(ε45 − ε135) for a sky AoLP a,
 // A = ε0 + ε90, B = ε45 + ε135: it reads a' = a + c0 + c1·cos 4a' + c2·sin 4a' to first order,
@@ -116,13 +116,13 @@ double rayleigh_misfit(const SkyImages& sky, const std::vector<float>& dolp, con
 // robust (the default; InputOptions::sky_mask turns it off for before/after measurements): fit,
 // drop the pixels the fit misses by more than 3 robust σ (1.4826·median |residual|), refit twice.
 // The sun in one frame from its AoLP (see above); nullopt if too few polarized pixels.
-// polarizer_model: fit the sensor's polarizer error with the sun (above; fits_polarizer, estimate.h).
+// polarizer: the plain fit, or the sun with the sensor's polarizer error (above; polarizer_fit, estimate.h).
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const std::vector<float>& aolp,
-                                             const camera::Camera& camera, double min_dolp, bool polarizer_model,
+                                             const camera::Camera& camera, double min_dolp, PolarizerFit polarizer,
                                              double* quality = nullptr, bool robust = true);
 // The same from the frame's E-vectors computed once (e_vectors.h: `ev` of a sky whose valid pixels
-// include `sky`'s, at a min_dolp no higher than this one's; ev.polarizer_model says whether the
+// include `sky`'s, at a min_dolp no higher than this one's; ev.polarizer says whether the
 // polarizer error is fitted).
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const FrameEVectors& ev, double min_dolp,

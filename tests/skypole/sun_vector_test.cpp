@@ -330,7 +330,8 @@ TEST_CASE("the AoLP sun fit reads through a sensor whose polarizers are off thei
     for (float& a : aolp)
       if (std::isfinite(a)) a = static_cast<float>(read_through_mosaic(a, eps));
     const Eigen::Vector3d truth = frame.truth.world_from_camera.transpose() * frame.truth.sun.direction;
-    const auto fitted = skypole::sun_from_aolp(sky, sky.dolp[t], aolp, *stack.camera, kMinDolp, true);
+    const auto fitted = skypole::sun_from_aolp(sky, sky.dolp[t], aolp, *stack.camera, kMinDolp,
+                                               skypole::PolarizerFit::modelled);
     REQUIRE(fitted);
     const double err = deg_from_rad(std::atan2(truth.cross(*fitted).norm(), truth.dot(*fitted)));
     CHECK(err < 0.002);
@@ -358,9 +359,11 @@ TEST_CASE("the fits model the polarizers where the stack says its AoLP assumed t
   stack::Frame f;
   for (const PolarizerAngles a : {PolarizerAngles::none, PolarizerAngles::calibrated, PolarizerAngles::nominal}) {
     f.polarizer_angles = a;
-    CHECK(skypole::fits_polarizer(f, PolarizerModel::from_stack) == (a == PolarizerAngles::nominal));
-    CHECK(skypole::fits_polarizer(f, PolarizerModel::always));
-    CHECK_FALSE(skypole::fits_polarizer(f, PolarizerModel::never));
+    using skypole::PolarizerFit;
+    CHECK(skypole::polarizer_fit(f, PolarizerModel::from_stack) ==
+          (a == PolarizerAngles::nominal ? PolarizerFit::modelled : PolarizerFit::plain));
+    CHECK(skypole::polarizer_fit(f, PolarizerModel::always) == PolarizerFit::modelled);
+    CHECK(skypole::polarizer_fit(f, PolarizerModel::never) == PolarizerFit::plain);
   }
   CHECK(skypole::parse_polarizer_model("stack") == PolarizerModel::from_stack);
   CHECK_THROWS_WITH(skypole::parse_polarizer_model("sometimes"), Catch::Contains("always"));
