@@ -41,8 +41,8 @@ FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& do
                               camera::Transport transport, double min_dolp, PolarizerFit polarizer) {
   FrameEVectors out;
   out.min_dolp = min_dolp;
-  out.transport = transport;
   out.polarizer = polarizer;
+  const bool turns = polarizer == PolarizerFit::modelled;
   // Counted first and reserved exactly: a day's frames hold some thirty bytes per sky pixel each,
   // and grown by push_back the vectors would hold up to twice that.
   const auto kept = [&](std::size_t i) { return sky.valid[i] && static_cast<double>(dolp[i]) >= min_dolp; };
@@ -51,6 +51,7 @@ FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& do
   out.pixel.reserve(n);
   out.e.reserve(n);
   out.flags.reserve(n);
+  if (turns) out.turns.reserve(n);
   for (std::size_t i = 0; i < sky.pixels(); ++i) {
     if (!kept(i)) continue;
     const auto e = e_vector(to_double(sky.ray_camera[i]), aolp[i], transport);
@@ -58,6 +59,12 @@ FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& do
     out.e.push_back(e.value_or(Eigen::Vector3d::Zero()));
     out.flags.push_back(static_cast<std::uint8_t>((e ? FrameEVectors::kDefined : 0) |
                                                   (std::isfinite(aolp[i]) ? FrameEVectors::kFiniteAolp : 0)));
+    if (!turns) continue;
+    FrameEVectors::Turn& t = out.turns.emplace_back();
+    if (!e) continue;
+    const EVectorTurn d = e_vector_turn(to_double(sky.ray_camera[i]), *e, transport);
+    t = {d.turn.cast<float>(), static_cast<float>(d.cos_a * d.cos_a - d.sin_a * d.sin_a),
+         static_cast<float>(2 * d.cos_a * d.sin_a)};
   }
   return out;
 }

@@ -38,13 +38,20 @@ EVectorTurn e_vector_turn(const Eigen::Vector3d& d_cam, const Eigen::Vector3d& e
 struct FrameEVectors {
   enum : std::uint8_t { kDefined = 1, kFiniteAolp = 2 };
   double min_dolp = 0;
-  camera::Transport transport = camera::Transport::meridional;  // the camera's, which made e
   // Whether the AoLP sun fits on these model the sensor's polarizer angle errors (sun_vector.h;
   // polarizer_fit, estimate.h).
   PolarizerFit polarizer = PolarizerFit::plain;
   std::vector<std::uint32_t> pixel;  // ascending
   std::vector<Eigen::Vector3d> e;    // e_vector there (zero where undefined)
   std::vector<std::uint8_t> flags;   // kDefined: e_vector gave one; kFiniteAolp: the AoLP is finite
+  // With the polarizer model, per entry: ∂e/∂a and (cos 2a, sin 2a) of its sensor AoLP a
+  // (e_vector_turn; zero where e is undefined), in floats as the AoLP's own precision is. Made
+  // here, once, because every sun fit on the frame reads them; empty for the plain fit.
+  struct Turn {
+    Eigen::Vector3f turn = Eigen::Vector3f::Zero();
+    float cos2 = 0, sin2 = 0;
+  };
+  std::vector<Turn> turns;
 };
 FrameEVectors frame_e_vectors(const SkyImages& sky, const std::vector<float>& dolp, const std::vector<float>& aolp,
                               camera::Transport transport, double min_dolp, PolarizerFit polarizer);

@@ -30,7 +30,6 @@ constexpr EnumNames<PolarizerModel, 3> kPolarizerModelNames{{{PolarizerModel::fr
 PolarizerModel parse_polarizer_model(std::string_view name) {
   return enum_from_name(kPolarizerModelNames, name, "--polarizer-model");
 }
-std::string_view polarizer_model_name(PolarizerModel m) { return enum_name(kPolarizerModelNames, m); }
 
 PolarizerFit polarizer_fit(const stack::Frame& frame, PolarizerModel model) {
   const bool modelled = model == PolarizerModel::always || (model == PolarizerModel::from_stack &&

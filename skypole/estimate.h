@@ -58,7 +58,6 @@ std::string_view hemisphere_name(Hemisphere h);
 enum class PolarizerModel { from_stack, always, never };
 // "stack" | "always" | "never"; throws std::invalid_argument listing the legal names.
 PolarizerModel parse_polarizer_model(std::string_view name);
-std::string_view polarizer_model_name(PolarizerModel m);
 // What one frame's AoLP sun fits do: the plain fit, or the fit with the polarizer model. A type of
 // its own, so that no number or flag converts to it by mistake.
 enum class PolarizerFit : std::uint8_t { plain, modelled };

@@ -197,7 +197,7 @@ std::optional<Eigen::Vector3d> symmetric_sun(const SkyImages& sky, const std::ve
       }
     if (kept < 50) return std::nullopt;
     half.valid_count = kept;
-    const auto refit = sun_from_aolp(half, sky.ray_camera, dolp, ev, min_dolp, nullptr, robust);
+    const auto refit = sun_from_aolp(half, dolp, ev, min_dolp, nullptr, robust);
     if (!refit) return std::nullopt;
     sun = *refit;
   }

@@ -220,12 +220,6 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const FrameEVectors& ev, double min_dolp, double* quality,
                                              bool robust) {
-  return sun_from_aolp(sky, sky.ray_camera, dolp, ev, min_dolp, quality, robust);
-}
-
-std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<Eigen::Vector3f>& rays,
-                                             const std::vector<float>& dolp, const FrameEVectors& ev,
-                                             double min_dolp, double* quality, bool robust) {
   // The E-vectors read: those of the sky's valid pixels, in pixel order, weighted by DoLP².
   std::vector<std::uint32_t> at;  // indices into ev
   for (std::size_t k = 0; k < ev.pixel.size(); ++k) {
@@ -242,31 +236,23 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     return p * p;
   };
   // With the polarizer model, per E-vector read: its turn ∂e/∂a and (cos 2a, sin 2a) of its sensor
-  // AoLP a; floats, as the AoLP's own precision is.
+  // AoLP a, made with the E-vectors (e_vectors.h).
   const bool model = ev.polarizer == PolarizerFit::modelled;
-  struct Read {
-    Eigen::Vector3f turn;
-    float cos2, sin2;
-  };
-  std::vector<Read> px(model ? at.size() : 0);
-  for (std::size_t m = 0; m < px.size(); ++m) {
-    const std::size_t k = at[m], i = ev.pixel[k];
-    const EVectorTurn t = e_vector_turn(to_double(rays[i]), ev.e[k], ev.transport);
-    px[m] = {t.turn.cast<float>(), static_cast<float>(t.cos_a * t.cos_a - t.sin_a * t.sin_a),
-             static_cast<float>(2 * t.cos_a * t.sin_a)};
-  }
+  if (model && ev.turns.size() != ev.pixel.size())
+    throw std::logic_error("sun_from_aolp: E-vectors for the polarizer model without their turns");
+  const auto turn_at = [&](std::size_t m) -> const FrameEVectors::Turn& { return ev.turns[at[m]]; };
   // The sensor's AoLP error (radians) at each E-vector read, from the mosaic's model c (sun_vector.h):
   // the measured (cos 2a', sin 2a') ∝ (cos(2a − A), ρ·sin(2a − B)) of the sky's a, so the sky's 2a
   // is the angle of (cos B·cos 2a' − sin A·sin 2a'/ρ, sin B·cos 2a' + cos A·sin 2a'/ρ), with
   // A = 2(c1 − c0), B = −2(c0 + c1), ρ = 1 + 4·c2 (to first order, a' = a + c0 + c1·cos 4a' + c2·sin 4a').
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  std::vector<float> error(px.size(), 0.0f);
+  std::vector<float> error(model ? at.size() : 0, 0.0f);
   const auto update_error = [&]() {
     const double ca = std::cos(2 * (c(1) - c(0))), sa = std::sin(2 * (c(1) - c(0)));
     const double cb = std::cos(-2 * (c(0) + c(1))), sb = std::sin(-2 * (c(0) + c(1)));
     const double inv_rho = 1 / (1 + 4 * c(2));
-    for (std::size_t m = 0; m < px.size(); ++m) {
-      const double c2 = px[m].cos2, s2 = px[m].sin2;
+    for (std::size_t m = 0; m < error.size(); ++m) {
+      const double c2 = turn_at(m).cos2, s2 = turn_at(m).sin2;
       const double x = cb * c2 - sa * s2 * inv_rho, y = sb * c2 + ca * s2 * inv_rho;
       error[m] = static_cast<float>(-0.5 * std::atan2(c2 * y - s2 * x, c2 * x + s2 * y));
     }
@@ -274,7 +260,7 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
   // The E-vector as the sky has it: the sensor's error taken out (to first order in the error).
   const auto e_at = [&](std::size_t m) -> Eigen::Vector3d {
     const Eigen::Vector3d& e = ev.e[at[m]];
-    return model ? Eigen::Vector3d(e - static_cast<double>(error[m]) * px[m].turn.cast<double>()) : e;
+    return model ? Eigen::Vector3d(e - static_cast<double>(error[m]) * turn_at(m).turn.cast<double>()) : e;
   };
   std::vector<std::uint8_t> use(at.size(), 1);
   Eigen::Vector3d s;
@@ -310,7 +296,7 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
     double a[15] = {}, b[5] = {};  // JᵀWJ's lower triangle and JᵀWr, in locals (as above)
     for (std::size_t k = 0; k < at.size(); ++k)
       if (use[k]) {
-        const Read& rd = px[k];
+        const FrameEVectors::Turn& rd = turn_at(k);
         const Eigen::Vector3d e = e_at(k);
         const double st = -s.dot(rd.turn.cast<double>());
         const double c2 = rd.cos2, s2 = rd.sin2;

@@ -127,11 +127,6 @@ std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::ve
 std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<float>& dolp,
                                              const FrameEVectors& ev, double min_dolp,
                                              double* quality = nullptr, bool robust = true);
-// The same where `sky` says only which pixels to read (a mask of a prepared sky, without rays of
-// its own): `rays` are the prepared sky's.
-std::optional<Eigen::Vector3d> sun_from_aolp(const SkyImages& sky, const std::vector<Eigen::Vector3f>& rays,
-                                             const std::vector<float>& dolp, const FrameEVectors& ev,
-                                             double min_dolp, double* quality = nullptr, bool robust = true);
 
 // The sun in one frame from a Rayleigh fit of its DoLP, started at `start`; nullopt if the fit
 // fails. pmax receives the fitted Pmax, rms the DoLP residual.
