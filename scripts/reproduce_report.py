@@ -481,10 +481,11 @@ def render(r, g):
         "pixels, with each pixel's noise that of a real IMX250 pixel: there are 16× fewer pixels to average, so the "
         "noisy rows are pessimistic for the estimators that average many pixels; the coarser grid also makes each "
         "2×2 polarizer block span 4× the real angle. The full sensor would take about 16× the CPU time.")
-    add("- **The colour sensor.** The paper used the blue channel of a colour IMX250MYR; the protocol uses the mono "
-        "IMX250MZR model (same mosaic and noise; skypol's colour pipeline exists, `demosaic_color_bilinear`, and the "
-        "grey Rayleigh sky makes the bands identical). Fixed-pattern noise (PRNU, DSNU), micro-polarizer angle "
-        "errors and a varying exposure are off.")
+    add("- **The colour sensor on the Rayleigh sky.** The paper used the blue channel of a colour IMX250MYR; the "
+        "Rayleigh protocol uses the mono IMX250MZR model (same mosaic and noise; the grey Rayleigh sky makes the bands "
+        "identical), at a fixed exposure. The VRTE section runs the colour sensor, auto-exposed, on band B. "
+        "Fixed-pattern noise (PRNU, DSNU) and micro-polarizer angle errors are off in both (the calibration study's "
+        "mismatch population, docs/benchmarks.md section 7, has them).")
     add("- **Fig. 1C** (the 3-D sphere with both invariance circles) is shown in the image plane instead (Set 1 "
         "figure). The classic algorithm's threshold is skypol's default (the paper gives none).")
     add("- **Sun et al.'s normalisation** of the 2-D models onto the measured image is not stated in the paper; "
