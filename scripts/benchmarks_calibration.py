@@ -9,6 +9,7 @@ the tables. scripts/benchmarks calls report(); `--replot` redraws it from the CS
                         DIR/calibration_meta.csv instead of meta.csv where the study was rerun alone)
     the mismatch check  DIR/mismatch/calibration*.csv, meta.csv  (`--population mismatch`), if present
 """
+import csv
 import os
 
 import numpy as np
@@ -44,7 +45,6 @@ def _meta(d, name="meta.csv"):
     path = os.path.join(d, name)
     if not os.path.exists(path):
         return {}
-    import csv
     with open(path, newline="") as f:
         return {r["key"]: r["value"] for r in csv.DictReader(f)}
 
@@ -61,13 +61,13 @@ def _share(n, total):
     return f"{100 * n / total:.0f} %" if total else "—"
 
 
-def _span(values, unit="", digits=3, h=None):
+def _span(values, unit="", h=None):
+    """'lo–hi unit' of the values that are not None, in scripts/benchmarks' number format (h.fmt)."""
     vs = [v for v in values if v is not None]
     if not vs:
         return "—"
     lo, hi = min(vs), max(vs)
-    f = h.fmt if h else (lambda v, d=digits: f"{v:.{d}g}")
-    return f"{f(lo)}{unit}" if lo == hi else f"{f(lo)}–{f(hi)}{unit}"
+    return f"{h.fmt(lo)}{unit}" if lo == hi else f"{h.fmt(lo)}–{h.fmt(hi)}{unit}"
 
 
 def describe_population(rows, meta, h):
@@ -247,17 +247,17 @@ def _declines(rows):
     return sorted(why_declined.items(), key=lambda kv: -kv[1])[:8]
 
 
-def _plot(rows, methods, fig_dir, h):
-    fig, axes = h.figure(2, 11, 4.4)
-    colors = h.plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for i, m in enumerate(methods):
-        rs = [r for r in rows if r["method"] == m and r["valid"] == 1]
-        if not rs:
+def draw_reliability(axes, series, colors):
+    """The reliability diagram on two axes: each answer's stated 95 % cone against its error (left),
+    and the share inside the cone per bin of cone (right). series: (method, scatter label, cones,
+    errors) in degrees; scripts/calibration_tune.py draws its calibrations with it too."""
+    for i, (m, label, x, y) in enumerate(series):
+        if len(x) == 0:
             continue
-        x = np.array([max(r["cone95_deg"], 1e-3) for r in rs])
-        y = np.array([max(r["angular_error_deg"], 1e-4) for r in rs])
+        x = np.maximum(np.asarray(x, dtype=float), 1e-3)
+        y = np.maximum(np.asarray(y, dtype=float), 1e-4)
         c = colors[i % len(colors)]
-        axes[0].scatter(x, y, s=8, alpha=0.5, color=c, label=m)
+        axes[0].scatter(x, y, s=8, alpha=0.5, color=c, label=label)
         # Binned coverage: share of answers inside their cone, per decade of stated cone.
         edges = np.logspace(np.log10(x.min()) - 1e-9, np.log10(x.max()) + 1e-9, 6)
         xs, cov = [], []
@@ -265,7 +265,7 @@ def _plot(rows, methods, fig_dir, h):
             sel = (x >= lo) & (x <= hi)
             if sel.sum() >= 3:
                 xs.append(np.sqrt(lo * hi))
-                cov.append(np.mean(y[sel] <= x[sel]))
+                cov.append(float(np.mean(y[sel] <= x[sel])))
         if xs:
             axes[1].plot(xs, cov, "o-", color=c, label=m)
     # Fixed limits: a small run may leave a panel with no valid answer (the gates decline them),
@@ -282,6 +282,15 @@ def _plot(rows, methods, fig_dir, h):
     axes[1].set_xscale("log"); axes[1].set_ylim(0, 1.02)
     axes[1].set_xlabel("stated 95 % cone (deg), binned"); axes[1].set_ylabel("share inside the cone")
     axes[1].grid(alpha=0.3, which="both")
+
+
+def _plot(rows, methods, fig_dir, h):
+    fig, axes = h.figure(2, 11, 4.4)
+    series = []
+    for m in methods:
+        rs = [r for r in rows if r["method"] == m and r["valid"] == 1]
+        series.append((m, m, [r["cone95_deg"] for r in rs], [r["angular_error_deg"] for r in rs]))
+    draw_reliability(axes, series, h.plt.rcParams["axes.prop_cycle"].by_key()["color"])
     h.legend_below(fig, axes, ncol=4)
     h.save(fig, os.path.join(fig_dir, "calibration.png"))
 

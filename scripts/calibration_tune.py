@@ -464,34 +464,8 @@ def plot(by, cal, bound, path, mode):
             series.append((m, cone[ok], d["err"][ok]))
     ok, err, _, cone = combine(by, cal, bound, mode)
     series.append(("auto", cone[ok], err[ok]))
-    for i, (m, x, y) in enumerate(series):
-        if len(x) == 0:
-            continue
-        x = np.maximum(x, 1e-3)
-        y = np.maximum(y, 1e-4)
-        c = colors[i % len(colors)]
-        axes[0].scatter(x, y, s=8, alpha=0.5, color=c, label=f"{m} ({len(x)})")
-        edges = np.logspace(np.log10(x.min()) - 1e-9, np.log10(x.max()) + 1e-9, 6)
-        xs, cov = [], []
-        for lo, hi in zip(edges[:-1], edges[1:]):
-            sel = (x >= lo) & (x <= hi)
-            if sel.sum() >= 3:
-                xs.append(math.sqrt(lo * hi))
-                cov.append(float(np.mean(y[sel] <= x[sel])))
-        if xs:
-            axes[1].plot(xs, cov, "o-", color=c, label=m)
-    lim = [1e-3, 180]
-    axes[0].set_xlim(lim); axes[0].set_ylim(1e-4, 180); axes[1].set_xlim(lim)
-    axes[0].plot(lim, lim, "k--", lw=1, label="error = stated 95 % cone")
-    axes[0].axhline(5, color="red", lw=0.8, ls=":", label="5° (a lie above)")
-    axes[0].set_xscale("log"); axes[0].set_yscale("log")
-    axes[0].set_xlabel("stated 95 % cone (deg)"); axes[0].set_ylabel("observed angular error (deg)")
-    axes[0].grid(alpha=0.3, which="both")
-    axes[1].axhspan(0.90, 0.98, color="green", alpha=0.15, label="target 90–98 %")
-    axes[1].axhline(0.95, color="k", lw=0.8, ls="--")
-    axes[1].set_xscale("log"); axes[1].set_ylim(0, 1.02)
-    axes[1].set_xlabel("stated 95 % cone (deg), binned"); axes[1].set_ylabel("share inside the cone")
-    axes[1].grid(alpha=0.3, which="both")
+    import benchmarks_calibration  # scripts/benchmarks_calibration.py: the same diagram as section 7
+    benchmarks_calibration.draw_reliability(axes, [(m, f"{m} ({len(x)})", x, y) for m, x, y in series], colors)
     axes[0].legend(fontsize=7, loc="upper left")
     fig.tight_layout()
     fig.savefig(path + ".tmp.png", dpi=110)
