@@ -199,22 +199,17 @@ struct Solver {
     const int g = lay.gauss();
     return a.leftCols(g) * (wrow.asDiagonal() * b.topRows(g));
   }
-  VectorXd e_rows(double tau) const {
-    VectorXd e(lay.rows());
-    for (int r = 0; r < lay.rows(); ++r) {
-      const double m = mu[static_cast<std::size_t>(row_node[static_cast<std::size_t>(r)])];
-      e(r) = m > 0.0 ? std::exp(-tau / m) : 0.0;
+  // exp(−τ/μ) of each row's (e_rows) or column's (e_cols) node; 0 for a node at μ = 0.
+  VectorXd attenuation(const std::vector<int>& node, double tau) const {
+    VectorXd e(static_cast<Eigen::Index>(node.size()));
+    for (std::size_t r = 0; r < node.size(); ++r) {
+      const double m = mu[static_cast<std::size_t>(node[r])];
+      e(static_cast<Eigen::Index>(r)) = m > 0.0 ? std::exp(-tau / m) : 0.0;
     }
     return e;
   }
-  VectorXd e_cols(double tau) const {
-    VectorXd e(lay.cols());
-    for (int c = 0; c < lay.cols(); ++c) {
-      const double m = mu[static_cast<std::size_t>(col_node[static_cast<std::size_t>(c)])];
-      e(c) = m > 0.0 ? std::exp(-tau / m) : 0.0;
-    }
-    return e;
-  }
+  VectorXd e_rows(double tau) const { return attenuation(row_node, tau); }
+  VectorXd e_cols(double tau) const { return attenuation(col_node, tau); }
   // X = C + P∘X, solved on the Gauss rows first.
   MatrixXd solve_series(const MatrixXd& p, const MatrixXd& c) const {
     const int g = lay.gauss(), rows = lay.rows();

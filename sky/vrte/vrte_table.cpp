@@ -236,23 +236,18 @@ StokesIQU VrteTable::table(const std::vector<double>& data, double mu, double mu
   return r;
 }
 
-StokesIQU VrteTable::down(double mu, double mu0, double dphi) const {
+StokesIQU VrteTable::radiance(const std::vector<double>& multiple, bool up, double mu, double mu0, double dphi) const {
   if (!(mu0 > 0.0)) return {};
   mu = std::clamp(mu, 0.0, 1.0);
   mu0 = std::min(mu0, 1.0);
-  const StokesIQU ms = table(down_, mu, mu0, dphi);
-  const StokesIQU ss = single_scattering(exact_, mu, mu0, dphi, false);
+  const StokesIQU ms = table(multiple, mu, mu0, dphi);
+  const StokesIQU ss = single_scattering(exact_, mu, mu0, dphi, up);
   return {ms.i + ss.i, ms.q + ss.q, ms.u + ss.u};
 }
 
-StokesIQU VrteTable::up(double mu, double mu0, double dphi) const {
-  if (!(mu0 > 0.0)) return {};
-  mu = std::clamp(mu, 0.0, 1.0);
-  mu0 = std::min(mu0, 1.0);
-  const StokesIQU ms = table(up_, mu, mu0, dphi);
-  const StokesIQU ss = single_scattering(exact_, mu, mu0, dphi, true);
-  return {ms.i + ss.i, ms.q + ss.q, ms.u + ss.u};
-}
+StokesIQU VrteTable::down(double mu, double mu0, double dphi) const { return radiance(down_, false, mu, mu0, dphi); }
+
+StokesIQU VrteTable::up(double mu, double mu0, double dphi) const { return radiance(up_, true, mu, mu0, dphi); }
 
 double VrteTable::ground(double mu0) const {
   if (!(mu0 > 0.0) || ground_.empty()) return 0.0;

@@ -92,6 +92,8 @@ class VrteTable {
   std::string key_;
 
   StokesIQU table(const std::vector<double>& data, double mu, double mu0, double dphi) const;
+  // down or up: the table `multiple` (down_ or up_) plus the exact single scattering that way.
+  StokesIQU radiance(const std::vector<double>& multiple, bool up, double mu, double mu0, double dphi) const;
 };
 
 }  // namespace skypol::sky::vrte
