@@ -20,8 +20,10 @@
 #include "sky/rayleigh.h"
 #include "sky/units.h"
 #include "stack/stack_io.h"
+#include "sky/sky_test_util.h"
 
 using namespace skypol;
+using skypol::testing::sun_at;
 namespace fs = std::filesystem;
 
 namespace {
@@ -35,14 +37,6 @@ std::shared_ptr<const camera::Camera> small_fisheye(int w = 48, int h = 40) {
   k.cy = (h - 1) / 2.0;
   auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(92.5));
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(20, 0, 0));
-}
-
-sky::Sun sun_at(double az_deg, double el_deg) {
-  sky::Sun s;
-  s.azimuth = rad_from_deg(az_deg);
-  s.elevation = rad_from_deg(el_deg);
-  s.direction = sky::enu_direction(s.azimuth, s.elevation);
-  return s;
 }
 
 sky::SkySpec small_vrte() {

@@ -22,8 +22,10 @@
 #include "sky/units.h"
 #include "stack/stack_io.h"
 #include "sky/rayleigh.h"
+#include "sky/sky_test_util.h"
 
 using namespace skypol;
+using skypol::testing::sun_at;
 using scene::BoxSpec;
 using scene::OccluderSpec;
 
@@ -122,14 +124,6 @@ std::shared_ptr<const camera::Camera> fisheye(int w, int h, double heading, doub
   k.cy = (h - 1) / 2.0;
   auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(92.5));
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(heading, tilt, 0));
-}
-
-sky::Sun sun_at(double az_deg, double el_deg) {
-  sky::Sun s;
-  s.azimuth = rad_from_deg(az_deg);
-  s.elevation = rad_from_deg(el_deg);
-  s.direction = sky::enu_direction(s.azimuth, s.elevation);
-  return s;
 }
 
 // A scene file of the repository read with 8×8 binning (306×256 px).

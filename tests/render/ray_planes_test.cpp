@@ -13,8 +13,10 @@
 #include "render/renderer.h"
 #include "sky/rayleigh.h"
 #include "sky/units.h"
+#include "sky/sky_test_util.h"
 
 using namespace skypol;
+using skypol::testing::sun_at;
 
 namespace {
 constexpr double kThetaMax = rad_from_deg(92.5);
@@ -32,14 +34,6 @@ camera::Intrinsics fisheye_intrinsics(int w, int h) {
 std::shared_ptr<const camera::Camera> fisheye(int w, int h, double tilt_deg = 0) {
   auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, fisheye_intrinsics(w, h), kThetaMax);
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(30, tilt_deg, 5));
-}
-
-sky::Sun sun_at(double az_deg, double el_deg) {
-  sky::Sun s;
-  s.azimuth = rad_from_deg(az_deg);
-  s.elevation = rad_from_deg(el_deg);
-  s.direction = sky::enu_direction(s.azimuth, s.elevation);
-  return s;
 }
 
 void check_same_frames(const stack::Frame& a, const stack::Frame& b) {

@@ -18,8 +18,10 @@
 #include "scene/truth.h"
 #include "sky/rayleigh.h"
 #include "sky/units.h"
+#include "sky/sky_test_util.h"
 
 using namespace skypol;
+using skypol::testing::sun_at;
 
 namespace {
 
@@ -33,14 +35,6 @@ std::shared_ptr<const camera::Camera> small_fisheye(double heading_deg = 0, int 
   k.cy = (h - 1) / 2.0;
   auto lens = std::make_shared<camera::RadialLens>(camera::Mapping::equidistant, k, rad_from_deg(92.5));
   return std::make_shared<camera::Camera>(lens, camera::world_from_heading_tilt_roll(heading_deg, 0, 0), transport);
-}
-
-sky::Sun sun_at(double az_deg, double el_deg) {
-  sky::Sun s;
-  s.azimuth = rad_from_deg(az_deg);
-  s.elevation = rad_from_deg(el_deg);
-  s.direction = sky::enu_direction(s.azimuth, s.elevation);
-  return s;
 }
 
 }  // namespace

@@ -16,8 +16,10 @@
 #include "sky/rayleigh.h"
 #include "sky/sky_spec.h"
 #include "sky/units.h"
+#include "sky_test_util.h"
 
 using namespace skypol::sky;
+using skypol::testing::sun_at;
 using skypol::rad_from_deg;
 namespace fs = std::filesystem;
 
@@ -56,14 +58,6 @@ std::string message_of(const SkySpec& spec) {
     return e.what();
   }
   return "";
-}
-
-Sun sun_at(double az_deg, double el_deg) {
-  Sun s;
-  s.azimuth = rad_from_deg(az_deg);
-  s.elevation = rad_from_deg(el_deg);
-  s.direction = enu_direction(s.azimuth, s.elevation);
-  return s;
 }
 
 const std::vector<std::string> kRgb{"R", "G", "B"};
