@@ -13,10 +13,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kScene = R"([site]
-latitude_deg = 43.28699
-longitude_deg = 5.40336
-
+const std::string kScene = std::string(skypol::test::kMarseilleSite) + R"(
 [time]
 start = "2022-09-23T08:00:00Z"
 end = "2022-09-23T12:00:00Z"

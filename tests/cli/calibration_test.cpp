@@ -14,10 +14,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kScene = R"([site]
-latitude_deg = 43.28699
-longitude_deg = 5.40336
-
+const std::string kScene = std::string(skypol::test::kMarseilleSite) + R"(
 [time]
 dates = "2022-09-23"
 zone = "Z"

@@ -14,6 +14,9 @@
 
 namespace skypol::test {
 
+// The [site] of the test scenes: the SkyPole paper's, Marseille (a scene text's first lines).
+inline constexpr const char* kMarseilleSite = "[site]\nlatitude_deg = 43.28699\nlongitude_deg = 5.40336\n";
+
 struct Result {
   int code;
   std::string out;  // stdout and stderr together

@@ -14,10 +14,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kSmallScene = R"([site]
-latitude_deg = 43.28699
-longitude_deg = 5.40336
-
+const std::string kSmallScene = std::string(skypol::test::kMarseilleSite) + R"(
 [time]
 start = "2022-09-23T06:00:00Z"
 end = "2022-09-23T17:00:00Z"

@@ -25,10 +25,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Marseille in the morning, a zenith camera turned to 30°: the NCP images at 43° altitude.
-const char* kScene = R"([site]
-latitude_deg = 43.28699
-longitude_deg = 5.40336
-
+const std::string kScene = std::string(skypol::test::kMarseilleSite) + R"(
 [time]
 start = "2022-09-23T07:00:00Z"
 end = "2022-09-23T10:00:00Z"
